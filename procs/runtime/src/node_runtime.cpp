@@ -1,0 +1,143 @@
+#include "ucon/runtime/node_runtime.hpp"
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <regex>
+#include <sys/time.h>
+
+#include "ucon/channels.hpp"
+
+namespace ucon {
+namespace runtime {
+
+namespace {
+volatile std::sig_atomic_t g_exit = 0;
+void onSignal(int) { g_exit = 1; }
+
+// LCM 1.3.1 accepts some malformed URLs silently (and aborts on others); check the shape here
+// so the user gets a message naming what is wrong.
+bool checkUrl(const std::string& url, std::string* error) {
+  static const std::regex kUdpm(R"(udpm://(\d{1,3}\.\d{1,3}\.\d{1,3}\.\d{1,3})(:(\d{1,5}))?(\?.*)?)");
+  static const std::regex kOther(R"((memq|file|tcpq)://.*)");
+  std::smatch m;
+  if (std::regex_match(url, m, kUdpm)) {
+    const std::string ip = m[1];
+    int first = std::atoi(ip.c_str());
+    if (first < 224 || first > 239) {
+      *error = "LCM URL '" + url + "': " + ip + " is not a multicast address (224.0.0.0/4)";
+      return false;
+    }
+    if (m[3].matched) {
+      int port = std::atoi(std::string(m[3]).c_str());
+      if (port <= 0 || port > 65535) {
+        *error = "LCM URL '" + url + "': port out of range 1..65535";
+        return false;
+      }
+    }
+    return true;
+  }
+  if (std::regex_match(url, kOther)) return true;
+  *error = "LCM URL '" + url +
+           "' is not understood; expected e.g. udpm://239.255.76.67:7667?ttl=0 or memq://";
+  return false;
+}
+}  // namespace
+
+void installSignalHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool exitRequested() { return g_exit != 0; }
+void requestExit() { g_exit = 1; }
+void resetExitFlag() { g_exit = 0; }
+
+int64_t wallUtime() {
+  struct timeval tv;
+  gettimeofday(&tv, nullptr);
+  return static_cast<int64_t>(tv.tv_sec) * 1000000 + tv.tv_usec;
+}
+
+void logLine(const std::string& name, const char* level, const std::string& message) {
+  const int64_t now = wallUtime();
+  std::time_t secs = static_cast<std::time_t>(now / 1000000);
+  std::tm tm{};
+  localtime_r(&secs, &tm);
+  char stamp[32];
+  std::strftime(stamp, sizeof(stamp), "%H:%M:%S", &tm);
+  std::fprintf(stderr, "%s.%03d [%s] %s: %s\n", stamp, static_cast<int>((now / 1000) % 1000),
+               name.c_str(), level, message.c_str());
+}
+
+std::unique_ptr<NodeRuntime> NodeRuntime::open(const std::string& process_name,
+                                               const std::string& url, std::string* error) {
+  std::string u = url;
+  if (u.empty()) {
+    const char* env = std::getenv("LCM_DEFAULT_URL");
+    u = (env && *env) ? env : channels::kDefaultLcmUrl;
+  }
+  std::string err;
+  if (!checkUrl(u, &err)) {
+    if (error) *error = err;
+    return nullptr;
+  }
+  auto lcm = std::make_unique<lcm::LCM>(u);
+  if (!lcm->good()) {
+    if (error) {
+      *error = "cannot open LCM at '" + u +
+               "' (for udpm: is there a multicast route? try ttl=0, or check the port is free)";
+    }
+    return nullptr;
+  }
+  return std::unique_ptr<NodeRuntime>(new NodeRuntime(process_name, u, std::move(lcm)));
+}
+
+NodeRuntime::NodeRuntime(std::string name, std::string url, std::unique_ptr<lcm::LCM> lcm)
+    : name_(std::move(name)), url_(std::move(url)), lcm_(std::move(lcm)), status_(name_) {
+  next_status_ = std::chrono::steady_clock::now();
+}
+
+NodeRuntime::~NodeRuntime() = default;
+
+void NodeRuntime::setStatusChannel(const std::string& channel, double period_s,
+                                   std::function<int64_t()> message_time) {
+  status_channel_ = channel;
+  status_period_s_ = period_s;
+  message_time_ = std::move(message_time);
+  next_status_ = std::chrono::steady_clock::now() +
+                 std::chrono::microseconds(static_cast<int64_t>(period_s * 1e6));
+}
+
+void NodeRuntime::publishStatus() {
+  if (status_channel_.empty()) return;
+  const int64_t t = message_time_ ? message_time_() : 0;
+  process_status_t msg = status_.build(t, wallUtime());
+  publish(status_channel_, msg);
+}
+
+int NodeRuntime::handleOnce(int timeout_ms) { return lcm_->handleTimeout(timeout_ms); }
+
+int NodeRuntime::spin(int timeout_ms, const std::function<void()>& tick) {
+  while (!exitRequested()) {
+    const int rc = lcm_->handleTimeout(timeout_ms);
+    if (rc < 0) {
+      logLine(name_, "error", "LCM stopped working (handleTimeout < 0); exiting");
+      return 1;
+    }
+    if (tick) tick();
+    const auto now = std::chrono::steady_clock::now();
+    if (!status_channel_.empty() && now >= next_status_) {
+      publishStatus();
+      next_status_ = now + std::chrono::microseconds(static_cast<int64_t>(status_period_s_ * 1e6));
+    }
+  }
+  return 0;
+}
+
+}  // namespace runtime
+}  // namespace ucon

@@ -1,0 +1,76 @@
+// The node loop helper: publish/subscribe over memq://, decode errors counted, status
+// published, exit on request; a bad LCM URL gives a clear error and a non-zero exit.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "ucon/nav_goal_t.hpp"
+#include "ucon/process_status_t.hpp"
+#include "ucon/runtime/node_runtime.hpp"
+
+using ucon::runtime::NodeRuntime;
+
+TEST(NodeRuntime, GivenMemqWhenAMessageIsPublishedThenTheHandlerGetsItAndTheLoopExits) {
+  ucon::runtime::resetExitFlag();
+  std::string err;
+  auto rt = NodeRuntime::open("test", "memq://", &err);
+  ASSERT_TRUE(rt) << err;
+  int received = 0;
+  int64_t goal_id = 0;
+  rt->subscribe<ucon::nav_goal_t>("NAV_GOAL", [&](const ucon::nav_goal_t& g, const std::string& ch) {
+    ++received;
+    goal_id = g.goal_id;
+    EXPECT_EQ(ch, "NAV_GOAL");
+  });
+  int statuses = 0;
+  rt->subscribe<ucon::process_status_t>(
+      "TEST_STATUS", [&](const ucon::process_status_t& s, const std::string&) {
+        ++statuses;
+        EXPECT_EQ(s.name, "test");
+        EXPECT_EQ(s.utime, 77);
+      });
+  rt->setStatusChannel("TEST_STATUS", 0.0, [] { return int64_t{77}; });
+
+  ucon::nav_goal_t g{};
+  g.goal_id = 9;
+  rt->publish("NAV_GOAL", g);
+  // Garbage on the same channel is counted and dropped.
+  const char junk[] = "not an lcm message";
+  rt->lcm().publish("NAV_GOAL", junk, sizeof(junk));
+
+  int ticks = 0;
+  const int rc = rt->spin(10, [&] {
+    if (++ticks >= 5) ucon::runtime::requestExit();
+  });
+  EXPECT_EQ(rc, 0);
+  EXPECT_EQ(received, 1);
+  EXPECT_EQ(goal_id, 9);
+  EXPECT_EQ(rt->status().counter("decode_errors"), 1);
+  EXPECT_GE(statuses, 1);
+  ucon::runtime::resetExitFlag();
+}
+
+TEST(NodeRuntime, GivenMalformedUrlsThenOpenFailsWithAClearMessage) {
+  for (const char* url : {"udpm://not-an-ip:7667", "bogus://x", "udpm://10.0.0.1:7667",
+                          "udpm://239.255.76.67:99999"}) {
+    std::string err;
+    auto rt = NodeRuntime::open("test", url, &err);
+    EXPECT_FALSE(rt) << url;
+    EXPECT_NE(err.find(url), std::string::npos) << err;
+  }
+}
+
+TEST(NodeRuntime, GivenABadUrlThenAProcessExitsNonZeroAndSaysWhy) {
+  const std::string cmd = std::string(UCON_BIN_DIR) +
+                          "/ucon-goal --x 1 --y 2 --lcm-url 'bogus://nowhere' 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[256];
+  while (fgets(buf, sizeof(buf), p)) out += buf;
+  const int status = pclose(p);
+  EXPECT_NE(status, 0);
+  EXPECT_NE(out.find("bogus://nowhere"), std::string::npos) << out;
+  EXPECT_NE(out.find("error"), std::string::npos) << out;
+}
