@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Launcher tests: stop kills a process that ignores SIGINT after the grace period and leaves
+# no orphans; a profile naming a missing process starts nothing and exits non-zero; respawn.
+set -u
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+UCON="$ROOT/deploy/ucon"
+tmp=$(mktemp -d)
+export UCON_RUN_DIR="$tmp/run" UCON_TEST_MARKER="ucon-launcher-test-$$-$RANDOM"
+fails=0
+check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+count() { pgrep -f "$UCON_TEST_MARKER" | wc -l; }
+cleanup() { pkill -KILL -f "$UCON_TEST_MARKER" 2>/dev/null; rm -rf "$tmp"; }
+trap cleanup EXIT
+
+# 1. Stubborn process: SIGINT ignored, SIGKILL after the grace period, no orphans.
+"$UCON" start "$ROOT/tests/launcher/stubborn.profile" --detach --log-dir "$tmp/logs" >/dev/null
+sleep 1.5
+check "both processes and the stubborn child run" '[ "$(count)" -ge 3 ]'
+status=$("$UCON" status)
+check "status lists the processes as running" \
+  'echo "$status" | grep -q "stubborn .*running" && echo "$status" | grep -q "polite .*running"'
+t0=$(date +%s%N)
+"$UCON" stop --grace 2 > "$tmp/stop.out" 2>&1
+t1=$(date +%s%N)
+elapsed_ms=$(( (t1 - t0) / 1000000 ))
+check "stop waited for the grace period (${elapsed_ms} ms >= 2000)" '[ $elapsed_ms -ge 1900 ]'
+check "stop did not hang (${elapsed_ms} ms < 10000)" '[ $elapsed_ms -lt 10000 ]'
+check "stop says it used SIGKILL on the stubborn one" 'grep -q "stubborn.*SIGKILL" "$tmp/stop.out" "$tmp/logs/supervisor.log"'
+sleep 0.3
+check "no process (nor child) left behind" '[ "$(count)" -eq 0 ]'
+check "status says not running" '"$UCON" status | grep -q "not running"'
+
+# 2. Missing executable: nothing starts, exit status 3, the message names it.
+out=$("$UCON" start "$ROOT/tests/launcher/missing.profile" --detach --log-dir "$tmp/logs" 2>&1); rc=$?
+check "missing process gives exit status 3 (got $rc)" '[ $rc -eq 3 ]'
+check "the message names the missing process" 'echo "$out" | grep -q "ghost"'
+sleep 0.3
+check "nothing was started" '[ "$(count)" -eq 0 ]'
+
+# 3. Respawn with back-off: a crashing process is restarted, with growing delays.
+"$UCON" start "$ROOT/tests/launcher/respawn.profile" --detach --log-dir "$tmp/logs" >/dev/null
+sleep 4
+restarts=$(cat "$UCON_RUN_DIR/procs/crasher.restarts" 2>/dev/null || echo 0)
+check "crashing process was respawned (restarts=$restarts)" '[ "$restarts" -ge 2 ]'
+check "back-off keeps restarts low in 4 s (restarts=$restarts <= 4)" '[ "$restarts" -le 4 ]'
+"$UCON" stop --grace 1 >/dev/null 2>&1
+sleep 0.3
+check "respawn profile stopped cleanly" '[ "$(count)" -eq 0 ]'
+
+# 4. Unknown commands and profiles are clear errors.
+"$UCON" frobnicate >/dev/null 2>&1; rc=$?
+check "unknown command exits 2 (got $rc)" '[ $rc -eq 2 ]'
+"$UCON" start no-such-profile >/dev/null 2>&1; rc=$?
+check "unknown profile exits 2 (got $rc)" '[ $rc -eq 2 ]'
+
+echo "$(( 11 - fails )) passed, $fails failed"
+[ $fails -eq 0 ]
