@@ -1,5 +1,6 @@
 #include "ucon/runtime/node_runtime.hpp"
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -126,6 +127,8 @@ int NodeRuntime::spin(int timeout_ms, const std::function<void()>& tick) {
   while (!exitRequested()) {
     const int rc = lcm_->handleTimeout(timeout_ms);
     if (rc < 0) {
+      // A signal interrupts the wait (EINTR): that is the normal way out, not an error.
+      if (exitRequested() || errno == EINTR) continue;
       logLine(name_, "error", "LCM stopped working (handleTimeout < 0); exiting");
       return 1;
     }

@@ -51,10 +51,15 @@ class NodeRuntime {
   StatusReport& status() { return status_; }
 
   /// Subscribes `handler` to `channel` (a regex). Messages that fail to decode are counted as
-  /// "decode_errors" on the status and dropped.
+  /// "decode_errors" on the status and dropped. The subscription queues up to `queue_capacity`
+  /// messages while the loop is busy (LCM's default of 30 drops bursts silently).
   template <class Msg>
   void subscribe(const std::string& channel,
-                 std::function<void(const Msg&, const std::string& channel)> handler);
+                 std::function<void(const Msg&, const std::string& channel)> handler,
+                 int queue_capacity = kDefaultQueueCapacity);
+
+  /// Subscription queue length used unless a subscriber asks otherwise.
+  static constexpr int kDefaultQueueCapacity = 1000;
 
   /// Publishes `msg` on `channel`; counts "publish_errors" on failure.
   template <class Msg>
@@ -112,11 +117,13 @@ class NodeRuntime {
 
 template <class Msg>
 void NodeRuntime::subscribe(const std::string& channel,
-                            std::function<void(const Msg&, const std::string&)> handler) {
+                            std::function<void(const Msg&, const std::string&)> handler,
+                            int queue_capacity) {
   auto h = std::make_unique<Handler<Msg>>();
   h->owner = this;
   h->fn = std::move(handler);
-  lcm_->subscribe(channel, &Handler<Msg>::onRaw, h.get());
+  lcm::Subscription* sub = lcm_->subscribe(channel, &Handler<Msg>::onRaw, h.get());
+  if (sub) sub->setQueueCapacity(queue_capacity);
   handlers_.push_back(std::move(h));
 }
 
