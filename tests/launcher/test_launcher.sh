@@ -6,6 +6,7 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 UCON="$ROOT/deploy/ucon"
 tmp=$(mktemp -d)
 export UCON_RUN_DIR="$tmp/run" UCON_TEST_MARKER="ucon-launcher-test-$$-$RANDOM"
+URL="udpm://239.255.76.67:7803?ttl=0"
 fails=0
 check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
 count() { pgrep -f "$UCON_TEST_MARKER" | wc -l; }
@@ -13,8 +14,14 @@ cleanup() { pkill -KILL -f "$UCON_TEST_MARKER" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
 
 # 1. Stubborn process: SIGINT ignored, SIGKILL after the grace period, no orphans.
-"$UCON" start "$ROOT/tests/launcher/stubborn.profile" --detach --log-dir "$tmp/logs" >/dev/null
-sleep 1.5
+lcm-logger --lcm-url="$URL" -c PROC_STATUS -f "$tmp/procstat.lcm" >/dev/null 2>&1 &
+spy=$!
+"$UCON" start "$ROOT/tests/launcher/stubborn.profile" --detach --log-dir "$tmp/logs" --lcm-url "$URL" >/dev/null
+sleep 2.5
+kill -INT $spy 2>/dev/null; wait $spy 2>/dev/null
+if [ -x "${UCON_BUILD_DIR:-$ROOT/build}/bin/ucon-procstat" ]; then
+  check "PROC_STATUS is published and names the processes" 'grep -aq stubborn "$tmp/procstat.lcm"'
+fi
 check "both processes and the stubborn child run" '[ "$(count)" -ge 3 ]'
 status=$("$UCON" status)
 check "status lists the processes as running" \
@@ -53,5 +60,5 @@ check "unknown command exits 2 (got $rc)" '[ $rc -eq 2 ]'
 "$UCON" start no-such-profile >/dev/null 2>&1; rc=$?
 check "unknown profile exits 2 (got $rc)" '[ $rc -eq 2 ]'
 
-echo "$(( 11 - fails )) passed, $fails failed"
+echo "$(( $(grep -c "^ *check " "$0") - fails )) passed, $fails failed"
 [ $fails -eq 0 ]
