@@ -132,3 +132,62 @@ TEST(LcmTypes, GivenATrajectoryAndAStatusThenTheyRoundTrip) {
   sup.num_procs = 2;
   EXPECT_EQ(roundTrip(sup).procs[1].pid, 1234);
 }
+
+#include "ucon/fields.hpp"
+
+TEST(LcmFields, GivenAnEncodedMessageThenItsFieldsAreListedByNameAndADifferenceIsNamed) {
+  ucon::tracked_objects_t a{};
+  a.utime = 10;
+  a.valid = true;
+  ucon::tracked_object_t o{};
+  o.id = 4;
+  o.cov_size = 2;
+  o.cov = {0.5, 0.25};
+  a.objects = {o, o};
+  a.num_objects = 2;
+  ucon::tracked_objects_t b = a;
+  b.objects[1].cov[1] = 0.3;
+  auto bytes = [](const ucon::tracked_objects_t& m) {
+    std::vector<uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    return buf;
+  };
+  const auto ba = bytes(a), bb = bytes(b);
+  std::string ta, tb;
+  ucon::FieldList fa, fb;
+  ASSERT_TRUE(ucon::decodeFields(ba.data(), static_cast<int>(ba.size()), &ta, &fa));
+  ASSERT_TRUE(ucon::decodeFields(bb.data(), static_cast<int>(bb.size()), &tb, &fb));
+  EXPECT_EQ(ta, "ucon.tracked_objects_t");
+  ASSERT_EQ(fa.size(), fb.size());
+  std::string first_diff;
+  for (std::size_t i = 0; i < fa.size() && first_diff.empty(); ++i) {
+    if (fa[i].second != fb[i].second) first_diff = fa[i].first;
+  }
+  EXPECT_EQ(first_diff, "objects[1].cov[1]");
+  EXPECT_EQ(fa[0].first, "utime");
+  EXPECT_EQ(fa[0].second, "10");
+  // Unknown fingerprint or garbage: false, no crash.
+  std::vector<uint8_t> junk(16, 0xAB);
+  std::string t;
+  ucon::FieldList f;
+  EXPECT_FALSE(ucon::decodeFields(junk.data(), static_cast<int>(junk.size()), &t, &f));
+  EXPECT_FALSE(ucon::decodeFields(ba.data(), static_cast<int>(ba.size()) - 3, &t, &f));
+}
+
+TEST(LcmFields, GivenEveryTypeThenTheFieldListStartsWithUtimeForTopLevelMessages) {
+  int checked = 0;
+#define UCON_FIELDS(T)                                              \
+  {                                                                 \
+    ucon::T m{};                                                    \
+    ucon::FieldList f;                                              \
+    ucon::fields(m, "", f);                                         \
+    ASSERT_FALSE(f.empty()) << #T;                                  \
+    if (f[0].first == "utime") {                                    \
+      ++checked;                                                    \
+      EXPECT_EQ(f[1].first, "seq") << #T " must carry seq after utime"; \
+    }                                                               \
+  }
+  UCON_FOR_EACH_LCM_TYPE(UCON_FIELDS)
+#undef UCON_FIELDS
+  EXPECT_GE(checked, 14);
+}
