@@ -133,3 +133,41 @@ TEST(LogWriterFile, GivenEventsThenLcmLogFileReadsThemBack) {
   EXPECT_EQ(f.readNextEvent(), nullptr);
   fs::remove(p);
 }
+
+#include "ucon/nav_goal_t.hpp"
+#include "ucon/runtime/log_compare.hpp"
+
+namespace {
+fs::path writeGoals(const std::string& name, double last_x) {
+  const auto p = tmpFile(name);
+  ucon::runtime::LogWriterFile w;
+  EXPECT_TRUE(w.open(p.string(), nullptr));
+  for (int i = 0; i < 3; ++i) {
+    ucon::nav_goal_t g{};
+    g.utime = i;
+    g.seq = i;
+    g.x = i == 2 ? last_x : 1.0;
+    std::vector<uint8_t> buf(static_cast<std::size_t>(g.getEncodedSize()));
+    g.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    w.write("NAV_GOAL", buf.data(), buf.size(), 1000 + i * 7);
+  }
+  return p;
+}
+}  // namespace
+
+TEST(LogCompare, GivenTwoLogsThenTheFirstDifferingMessageAndFieldAreNamed) {
+  const auto a = writeGoals("cmp_a", 5.0), b = writeGoals("cmp_b", 5.0), c = writeGoals("cmp_c", 6.0);
+  auto r = ucon::runtime::compareLogs(a.string(), b.string());
+  EXPECT_TRUE(r.identical) << r.message;
+  EXPECT_EQ(r.events_compared, 3);
+  r = ucon::runtime::compareLogs(a.string(), c.string());
+  EXPECT_FALSE(r.identical);
+  EXPECT_FALSE(r.error);
+  EXPECT_NE(r.message.find("event 2 on NAV_GOAL"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("field x: 5 vs 6"), std::string::npos) << r.message;
+  fs::resize_file(c, fs::file_size(c) - 3);
+  r = ucon::runtime::compareLogs(a.string(), c.string());
+  EXPECT_TRUE(r.error);
+  EXPECT_NE(r.message.find("byte offset"), std::string::npos) << r.message;
+  for (const auto& p : {a, b, c}) fs::remove(p);
+}
