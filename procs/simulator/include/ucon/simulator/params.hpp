@@ -1,0 +1,75 @@
+#pragma once
+/// @file params.hpp
+/// Parameters of the simulator node (deploy/config/simulator.yaml maps onto them one-to-one).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ucon/mecanum/plant.hpp"
+
+namespace ucon {
+class ConfigReader;
+
+namespace simulator {
+
+/// The emulated Livox Mid-360.
+struct LidarParams {
+  double point_rate = 200000.0;       ///< points per second [1/s], [2e4, 1e6]; 1e9/rate a multiple of 100 ns
+  int data_type = 1;                  ///< point record type sent: 1 (mm), 2 (cm) or 3 (spherical)
+  double min_range = 0.1;             ///< nearer returns are dropped (sent as zero points) [m], [0, 10]
+  double max_range = 40.0;            ///< [m], (min_range, 500]
+  double range_noise_sigma = 0.02;    ///< Gaussian range noise [m], [0, 1]
+  double elevation_min_deg = -7.0;    ///< lower edge of the field of view, sensor frame [deg]
+  double elevation_max_deg = 52.0;    ///< upper edge [deg], > min
+  std::vector<double> mount_xyz{0.0, 0.0, 0.5};      ///< sensor origin in the base frame [m]
+  std::vector<double> mount_rpy_deg{180.0, 0.0, 0.0};  ///< sensor->base roll, pitch, yaw [deg]; 180 = upside down
+  double ground_reflectivity = 20.0;  ///< reflectivity of the floor, [0, 255]
+  int64_t seed = 1;                   ///< noise seed, >= 0
+
+  void read(ConfigReader& r);
+};
+
+/// The IMU inside the Mid-360 (sensor frame).
+struct ImuParams {
+  double rate_hz = 200.0;             ///< [Hz], [1, 2000]; 1e9/rate must be whole ns
+  double gyro_noise_sigma = 0.002;    ///< [rad/s], [0, 1]
+  double acc_noise_sigma = 0.02;      ///< [m/s^2], [0, 10]
+
+  void read(ConfigReader& r);
+};
+
+/// UDP endpoints (all on this host in simulation).
+struct NetParams {
+  std::string host_ip = "127.0.0.1";  ///< where point and IMU packets go until a driver says otherwise
+  int host_point_port = 56301;        ///< [1, 65535]
+  int host_imu_port = 56401;
+  std::string sensor_ip = "127.0.0.1";  ///< the address the emulated sensor binds and reports
+  int discovery_port = 56000;         ///< sensor side: discovery requests arrive here
+  int command_port = 56100;           ///< sensor side: set/query commands arrive here
+  int point_src_port = 56300;         ///< sensor side: source port of point packets (0 = any)
+  int imu_src_port = 56400;           ///< sensor side: source port of IMU packets (0 = any)
+  std::string serial = "SIM360000000001";  ///< reported in discovery acks (<= 16 chars)
+
+  void read(ConfigReader& r);
+};
+
+/// Everything the simulator node needs.
+struct SimulatorParams {
+  int64_t start_utime = 1000000;      ///< simulation epoch [us] (> 0): utime of simulation time 0
+  double frame_rate_hz = 50.0;        ///< LiDAR frame rate (frame_cnt, SIM_GROUND_TRUTH) [Hz], [1, 100]
+  double pose_rate_hz = 100.0;        ///< ROBOT_POSE rate [Hz], [1, 1000]
+  double cmd_timeout_s = 0.5;         ///< wheels brake when no BASE_WHEEL_CMD for this long [s], (0, 10]
+  double status_period_s = 1.0;       ///< SIM_STATUS period [s] (wall time), (0, 60]
+  LidarParams lidar;
+  ImuParams imu;
+  NetParams net;
+  mecanum::MecanumPlantParams base;   ///< section `base`: geometry keys + motor_time_constant, max_wheel_accel
+
+  void read(ConfigReader& r);
+  /// Empty if consistent, else the bad key and why.
+  std::string validate() const;
+};
+
+}  // namespace simulator
+}  // namespace ucon

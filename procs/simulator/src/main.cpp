@@ -1,0 +1,200 @@
+// ucon-simulator: the simulated robot hardware. Emulates the Livox Mid-360 on UDP (point and
+// IMU packets, control acks) and the Mecanum base (BASE_WHEEL_CMD in; ROBOT_POSE,
+// SIM_GROUND_TRUTH, SIM_STATUS out), advancing simulation time at --rate x real time.
+#include <CLI/CLI.hpp>
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "udp.hpp"
+#include "ucon/channels.hpp"
+#include "ucon/runtime/config_file.hpp"
+#include "ucon/runtime/node_runtime.hpp"
+#include "ucon/simulator/scenario_loader.hpp"
+#include "ucon/simulator/simulator.hpp"
+#include "ucon/world/difficulty.hpp"
+
+namespace {
+
+constexpr const char* kName = "simulator";
+
+bool isDir(const std::string& p) {
+  struct stat st {};
+  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ucon;
+  CLI::App app{"Simulated robot: Livox Mid-360 over UDP + Mecanum base over LCM."};
+  std::string config_path = "deploy/config/simulator.yaml", scenario_spec = "pedestrians", url, scenario_dir;
+  double rate = 1.0, duration = 0.0;
+  long long seed = -1;
+  app.add_option("--config", config_path, "simulator config (YAML)");
+  app.add_option("--scenario", scenario_spec, "pedestrians | crossing | bench:<N_d>:<seed> | path.yaml");
+  app.add_option("--rate", rate, "simulation speed, 1.0 = real time")->check(CLI::Range(0.01, 100.0));
+  app.add_option("--duration", duration, "stop after this much simulation time [s]; 0 = run until stopped")
+      ->check(CLI::Range(0.0, 1e7));
+  app.add_option("--seed", seed, "override the scenario seed (pedestrian timelines / bench generator)")
+      ->check(CLI::Range(0LL, 9000000000000000000LL));
+  app.add_option("--scenario-dir", scenario_dir, "folder of the named scenarios (default deploy/scenarios)");
+  app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0)");
+  CLI11_PARSE(app, argc, argv);
+
+  auto params = runtime::loadConfigFile<simulator::SimulatorParams>(kName, config_path);
+  if (!params) return 2;
+  if (const std::string bad = params->validate(); !bad.empty()) {
+    runtime::logLine(kName, "error", "config " + config_path + ": " + bad);
+    return 2;
+  }
+  if (scenario_dir.empty()) scenario_dir = isDir("deploy/scenarios") ? "deploy/scenarios" : UCON_SCENARIO_DIR;
+  std::string err;
+  auto scenario = simulator::loadScenario(scenario_spec, scenario_dir, seed, runtime::readTextFile, &err);
+  if (!scenario) {
+    runtime::logLine(kName, "error", err);
+    return 2;
+  }
+  const auto host_ip = livox::parseIpv4(params->net.host_ip);
+  const auto sensor_ip = livox::parseIpv4(params->net.sensor_ip);
+  if (!host_ip || !sensor_ip) {
+    runtime::logLine(kName, "error", "config " + config_path + ": net.host_ip / net.sensor_ip must be IPv4 addresses");
+    return 2;
+  }
+
+  simulator::Simulator sim(*params, *scenario);
+  world::DifficultyCounts difficulty;
+  bool have_difficulty = false;
+  {
+    // How hard is it for perception? Counted from ground truth (only for small scenes: the
+    // count is quadratic in the number of movers).
+    if (scenario->movers.size() <= 20) {
+      const auto& mount = params->lidar.mount_xyz;
+      const world::Vec3 sensor(scenario->robot.start.x() + mount[0], scenario->robot.start.y() + mount[1], mount[2]);
+      difficulty = world::computeDifficulty(sim.world(), sensor, scenario->duration_s);
+      have_difficulty = true;
+      runtime::logLine(kName, "info", "scenario " + scenario->name + " (seed " + std::to_string(scenario->seed) +
+                                          ") difficulty from ground truth: " + difficulty.toString());
+    }
+    runtime::logLine(kName, "info",
+                     "scenario " + scenario->name + ": " + std::to_string(scenario->statics.size()) +
+                         " static, " + std::to_string(scenario->movers.size()) + " moving obstacles, duration " +
+                         std::to_string(scenario->duration_s) + " s");
+  }
+
+  // Sockets: the emulated sensor's control ports (discovery + commands) and its data senders.
+  simulator::UdpSocket discovery, command, point_out, imu_out;
+  if (!discovery.open(*sensor_ip, static_cast<uint16_t>(params->net.discovery_port), &err) ||
+      !command.open(*sensor_ip, static_cast<uint16_t>(params->net.command_port), &err)) {
+    runtime::logLine(kName, "error", "control socket: " + err + " (is another simulator or a sensor emulator running?)");
+    return 1;
+  }
+  for (auto [sock, port, what] : {std::make_tuple(&point_out, params->net.point_src_port, "point"),
+                                   std::make_tuple(&imu_out, params->net.imu_src_port, "imu")}) {
+    if (!sock->open(*sensor_ip, static_cast<uint16_t>(port), &err)) {
+      runtime::logLine(kName, "warn", std::string(what) + " source port: " + err + "; using any port");
+      if (!sock->open(*sensor_ip, 0, &err)) {
+        runtime::logLine(kName, "error", std::string(what) + " socket: " + err);
+        return 1;
+      }
+    }
+  }
+
+  runtime::installSignalHandlers();
+  auto rt = runtime::NodeRuntime::open(kName, url, &err);
+  if (!rt) {
+    runtime::logLine(kName, "error", err);
+    return 1;
+  }
+  rt->subscribe<wheel_cmd_t>(channels::kBaseWheelCmd,
+                             [&](const wheel_cmd_t& c, const std::string&) {
+                               if (!sim.onWheelCmd(c)) rt->status().count("bad_wheel_cmds");
+                             });
+  rt->setStatusChannel(channels::kSimStatus, params->status_period_s, [&] { return sim.utime(); });
+
+  using Clock = std::chrono::steady_clock;
+  auto wall0 = Clock::now();
+  int64_t sim0 = sim.utime();
+  const int64_t end_utime = duration > 0 ? params->start_utime + static_cast<int64_t>(std::llround(duration * 1e6)) : 0;
+  simulator::SimOutputs out;
+  std::vector<uint8_t> rx;
+  int64_t send_errors = 0, overruns = 0;
+
+  auto serviceControl = [&](simulator::UdpSocket& sock) {
+    sockaddr_in from{};
+    for (int k = 0; k < 64; ++k) {
+      const long n = sock.receive(rx, &from);
+      if (n <= 0) break;
+      if (auto reply = sim.control().handle(rx.data(), rx.size())) {
+        if (!sock.sendTo(reply->data(), reply->size(), from)) ++send_errors;
+      }
+    }
+  };
+
+  runtime::logLine(kName, "info", "running at " + std::to_string(rate) + "x real time; points -> " +
+                                      params->net.host_ip + ":" + std::to_string(params->net.host_point_port) +
+                                      ", IMU -> :" + std::to_string(params->net.host_imu_port));
+  const int rc = rt->spin(1, [&] {
+    serviceControl(discovery);
+    serviceControl(command);
+    const double wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
+    int64_t target = sim0 + static_cast<int64_t>(wall_s * rate * 1e6);
+    // Fell far behind (CPU starved, stopped in a debugger): slow down instead of bursting
+    // hundreds of packets at once; counted as an overrun.
+    if (target - sim.utime() > 250000) {
+      ++overruns;
+      target = sim.utime() + 20000;
+      wall0 = Clock::now();
+      sim0 = target;
+    }
+    if (end_utime > 0 && target >= end_utime) target = end_utime;
+    out.clear();
+    sim.advanceTo(target, out);
+    for (const auto& d : out.point_packets)
+      if (!point_out.sendTo(d.bytes.data(), d.bytes.size(), d.ip, d.port)) ++send_errors;
+    for (const auto& d : out.imu_packets)
+      if (!imu_out.sendTo(d.bytes.data(), d.bytes.size(), d.ip, d.port)) ++send_errors;
+    for (const auto& p : out.poses) rt->publish(channels::kRobotPose, p);
+    for (const auto& g : out.ground_truth) rt->publish(channels::kSimGroundTruth, g);
+
+    auto& st = rt->status();
+    const auto& c = sim.counters();
+    st.setCounter("point_packets", c.packets);
+    st.setCounter("points", c.points);
+    st.setCounter("returns", c.returns);
+    st.setCounter("imu_packets", c.imu_packets);
+    st.setCounter("poses", c.poses);
+    st.setCounter("ground_truth", c.ground_truth);
+    st.setCounter("wheel_cmds", c.wheel_cmds);
+    st.setCounter("cmd_timeouts", c.cmd_timeouts);
+    st.setCounter("collisions", c.collision_episodes);
+    st.setCounter("send_errors", send_errors);
+    st.setCounter("encode_errors", c.encode_errors);
+    st.setCounter("realtime_overruns", overruns);
+    st.setCounter("control_requests", sim.control().counters().requests);
+    st.setCounter("control_malformed", sim.control().counters().malformed);
+    st.set("sim_time_s", sim.simTime());
+    st.set("min_clearance_m", std::isfinite(sim.minClearance()) ? sim.minClearance() : -1.0);
+    st.set("sampling", sim.control().state().sampling() ? 1.0 : 0.0);
+    if (have_difficulty) {
+      st.set("scenario_close_passes", difficulty.close_passes);
+      st.set("scenario_static_passes", difficulty.static_passes);
+      st.set("scenario_occlusions", difficulty.occlusions);
+    }
+    if (send_errors > 0)
+      st.setHealth(process_status_t::HEALTH_WARN, "UDP send errors");
+    if (end_utime > 0 && sim.utime() >= end_utime) runtime::requestExit();
+  });
+  rt->publishStatus();
+  const auto& c = sim.counters();
+  runtime::logLine(kName, "info",
+                   "stopped at t = " + std::to_string(sim.simTime()) + " s: " + std::to_string(c.packets) +
+                       " point packets, " + std::to_string(c.imu_packets) + " IMU packets, " +
+                       std::to_string(c.collision_episodes) + " collisions, " + std::to_string(send_errors) +
+                       " send errors");
+  return rc;
+}
