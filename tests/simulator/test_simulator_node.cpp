@@ -316,8 +316,27 @@ TEST(SimulatorNode, GivenMovingObstaclesThenGroundTruthMatchesTheWorldAtFrameTim
       EXPECT_DOUBLE_EQ(g.objects[i].x, s.position.x());
       EXPECT_DOUBLE_EQ(g.objects[i].vy, s.velocity.y());
       EXPECT_EQ(g.objects[i].motion, sim_object_t::MOTION_PEDESTRIAN);
+      EXPECT_GE(g.objects[i].visible, 0.0);
+      EXPECT_LE(g.objects[i].visible, 1.0);
     }
   }
+}
+
+TEST(SimulatorNode, GivenAPedestrianOccludedOverTheRunThenGroundTruthVisibilityDropsAndRecovers) {
+  SimulatorParams p = defaults();
+  Simulator sim(p, pedestrians());
+  SimOutputs out;
+  sim.advanceTo(p.start_utime + us(60.0), out);
+  double min_vis = 1.0, max_vis = 0.0;
+  for (const auto& g : out.ground_truth) {
+    for (const auto& o : g.objects) {
+      min_vis = std::min(min_vis, o.visible);
+      max_vis = std::max(max_vis, o.visible);
+    }
+  }
+  // The pedestrians scenario is built to occlude people: some frames hide someone entirely.
+  EXPECT_LT(min_vis, 0.2);
+  EXPECT_GT(max_vis, 0.8);
 }
 
 TEST(SimulatorNode, GivenTheSameInputsThenTwoRunsProduceIdenticalBytes) {

@@ -1,5 +1,7 @@
 #include "ucon/simulator/simulator.hpp"
 
+#include "ucon/world/difficulty.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -310,6 +312,11 @@ void Simulator::emitGroundTruth(int64_t t_ns, SimOutputs& out) {
   const auto& movers = world_.movers();
   g.num_objects = static_cast<int32_t>(movers.size());
   g.objects.resize(movers.size());
+  // Visibility costs 35 rays per mover: computed for scenes of up to kMaxVisibilityMovers
+  // (the perception scenarios), NaN (unknown) for the dense planning benchmarks.
+  constexpr std::size_t kMaxVisibilityMovers = 20;
+  const bool with_visibility = movers.size() <= kMaxVisibilityMovers;
+  const Eigen::Vector3d sensor = sensorPose().translation();
   for (std::size_t i = 0; i < movers.size(); ++i) {
     sim_object_t& o = g.objects[i];
     o.id = movers[i].id;
@@ -320,6 +327,8 @@ void Simulator::emitGroundTruth(int64_t t_ns, SimOutputs& out) {
     o.radius = movers[i].radius;
     o.height = movers[i].height;
     o.motion = static_cast<int8_t>(movers[i].motion);
+    o.visible = with_visibility ? world::moverVisibility(world_, i, sensor)
+                                : std::numeric_limits<double>::quiet_NaN();
   }
   out.ground_truth.push_back(std::move(g));
   ++counters_.ground_truth;
