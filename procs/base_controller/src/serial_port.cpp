@@ -1,0 +1,85 @@
+#include "ucon/base_controller/serial_port.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
+
+namespace ucon {
+namespace base_controller {
+
+namespace {
+bool baudConstant(int baud, speed_t* out) {
+  switch (baud) {
+    case 9600: *out = B9600; return true;
+    case 19200: *out = B19200; return true;
+    case 38400: *out = B38400; return true;
+    case 57600: *out = B57600; return true;
+    case 115200: *out = B115200; return true;
+    case 230400: *out = B230400; return true;
+    case 460800: *out = B460800; return true;
+    case 921600: *out = B921600; return true;
+    default: return false;
+  }
+}
+}  // namespace
+
+std::unique_ptr<SerialPort> SerialPort::open(const std::string& device, int baud, std::string* error) {
+  speed_t speed;
+  if (!baudConstant(baud, &speed)) {
+    if (error) *error = "unsupported baud rate " + std::to_string(baud);
+    return nullptr;
+  }
+  const int fd = ::open(device.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (error) *error = "cannot open " + device + ": " + std::strerror(errno);
+    return nullptr;
+  }
+  termios tio{};
+  if (::tcgetattr(fd, &tio) != 0) {
+    if (error) *error = device + " is not a tty: " + std::strerror(errno);
+    ::close(fd);
+    return nullptr;
+  }
+  ::cfmakeraw(&tio);
+  tio.c_cflag |= CLOCAL | CREAD;
+  tio.c_cflag &= ~static_cast<tcflag_t>(CSTOPB | CRTSCTS | PARENB);
+  tio.c_cflag = (tio.c_cflag & ~static_cast<tcflag_t>(CSIZE)) | CS8;
+  tio.c_cc[VMIN] = 0;
+  tio.c_cc[VTIME] = 0;
+  ::cfsetispeed(&tio, speed);
+  ::cfsetospeed(&tio, speed);
+  if (::tcsetattr(fd, TCSANOW, &tio) != 0) {
+    if (error) *error = "cannot configure " + device + ": " + std::strerror(errno);
+    ::close(fd);
+    return nullptr;
+  }
+  return std::unique_ptr<SerialPort>(new SerialPort(fd, device));
+}
+
+SerialPort::~SerialPort() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool SerialPort::write(const uint8_t* data, std::size_t n) {
+  // A full kernel buffer (EAGAIN) drops the frame. A short write is rare (the buffer holds
+  // hundreds of frames) and counted as an error; the board resynchronises on the next sync word.
+  const ssize_t w = ::write(fd_, data, n);
+  if (w == static_cast<ssize_t>(n)) return true;
+  if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+    ++dropped_;
+  } else {
+    ++errors_;
+  }
+  return false;
+}
+
+long SerialPort::read(uint8_t* data, std::size_t n) {
+  const ssize_t r = ::read(fd_, data, n);
+  if (r < 0) return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
+  return static_cast<long>(r);
+}
+
+}  // namespace base_controller
+}  // namespace ucon
