@@ -1,9 +1,11 @@
 # The whole stack in simulation. Columns:
 # order  name             group   respawn  config                               command
-# Group "main": when it exits the profile stops (the simulator ends after --duration).
-10  simulator        main    no   $UCON_CONFIG_DIR/simulator.yaml        $UCON_BIN/ucon-simulator --config $UCON_CONFIG --scenario "$UCON_SCENARIO" --rate $UCON_RATE --duration $UCON_DURATION --lcm-url "$UCON_LCM_URL"
+# Group "main": when it exits the profile stops (the mission ends when the goals are reached
+# or after --duration simulated seconds, and prints the summary).
+10  simulator        sim     no   $UCON_CONFIG_DIR/simulator.yaml        $UCON_BIN/ucon-simulator --config $UCON_CONFIG --scenario "$UCON_SCENARIO" --rate $UCON_RATE --lcm-url "$UCON_LCM_URL"
 20  lidar_driver     sensor  yes  $UCON_CONFIG_DIR/lidar_driver.yaml     $UCON_BIN/ucon-lidar-driver --config $UCON_CONFIG --lcm-url "$UCON_LCM_URL"
 30  perception       nav     yes  $UCON_CONFIG_DIR/perception.yaml       $UCON_BIN/ucon-perception --config $UCON_CONFIG --lcm-url "$UCON_LCM_URL"
 40  planner          nav     yes  $UCON_CONFIG_DIR/planner.yaml          $UCON_BIN/ucon-planner --config $UCON_CONFIG --lcm-url "$UCON_LCM_URL"
 50  base_controller  base    yes  $UCON_CONFIG_DIR/base_controller.yaml  $UCON_BIN/ucon-base-controller --config $UCON_CONFIG --backend lcm --lcm-url "$UCON_LCM_URL"
 60  logger           log     yes  $UCON_CONFIG_DIR/logger.yaml           $UCON_BIN/ucon-logger --config $UCON_CONFIG --log-dir "$UCON_LOG_DIR" --lcm-url "$UCON_LCM_URL"
+70  mission          main    no   $UCON_CONFIG_DIR/mission.yaml          $UCON_BIN/ucon-mission --config $UCON_CONFIG --scenario "$UCON_SCENARIO" --duration $UCON_DURATION --summary-json "$UCON_LOG_DIR/summary.json" --lcm-url "$UCON_LCM_URL"
