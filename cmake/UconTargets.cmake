@@ -34,8 +34,14 @@ function(ucon_gtest name)
   if(NOT A_TIMEOUT)
     set(A_TIMEOUT 120)
   endif()
+  # Multi-process tests measure rates and losses over real sockets: run them alone, so a
+  # parallel unit test cannot starve them into a false failure.
+  set(serial FALSE)
+  if("integration" IN_LIST A_LABELS)
+    set(serial TRUE)
+  endif()
   gtest_discover_tests(${name}
     WORKING_DIRECTORY ${CMAKE_SOURCE_DIR}
-    PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT}
+    PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT} RUN_SERIAL ${serial}
     DISCOVERY_TIMEOUT 30)
 endfunction()

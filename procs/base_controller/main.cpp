@@ -145,10 +145,7 @@ int main(int argc, char** argv) {
     }
   }
   // Leave the motors braked: a last disabled, zero command.
-  ucon::wheel_cmd_t off{};
-  off.utime = node.now();
-  off.enable = false;
-  backend->send(off);
+  backend->send(node.brakeCommand());
   rt::logLine(kName, "info", "stopped");
   return rc;
 }

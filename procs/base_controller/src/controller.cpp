@@ -362,6 +362,10 @@ BaseControllerOutput BaseController::tick(int64_t utime) {
   return out;
 }
 
+ucon::wheel_cmd_t BaseController::brakeCommand() {
+  return buildWheelCmd(clock_.now(), mecanum::WheelSpeeds{}, false, Twist{});
+}
+
 ucon::wheel_cmd_t BaseController::buildWheelCmd(int64_t now, const mecanum::WheelSpeeds& w,
                                                 bool enable, const Twist& t) {
   ucon::wheel_cmd_t m{};

@@ -87,6 +87,11 @@ std::unique_ptr<NodeRuntime> NodeRuntime::open(const std::string& process_name,
     if (error) *error = err;
     return nullptr;
   }
+  // LCM's default receive buffer (the kernel default, ~208 KiB) holds ~60 ms of the full-rate
+  // stack's traffic: a stall that long loses point clouds. Ask for 4 MiB unless the URL says.
+  if (u.rfind("udpm://", 0) == 0 && u.find("recv_buf_size") == std::string::npos) {
+    u += (u.find('?') == std::string::npos ? "?" : "&") + std::string("recv_buf_size=4194304");
+  }
   auto lcm = std::make_unique<lcm::LCM>(u);
   if (!lcm->good()) {
     if (error) {

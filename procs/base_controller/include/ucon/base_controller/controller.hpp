@@ -72,6 +72,9 @@ class BaseController {
 
   /// Message time [us]: the newest utime seen.
   int64_t now() const { return clock_.now(); }
+  /// A disabled, all-zero wheel command with the next sequence number, for leaving the
+  /// motors braked when the process exits.
+  ucon::wheel_cmd_t brakeCommand();
   int8_t state() const { return state_; }
   const std::string& reason() const { return reason_; }
   /// Counters for the process status (name, total), in a fixed order.
