@@ -1,0 +1,147 @@
+#pragma once
+/// @file planner_node.hpp
+/// The planner node: map, goal, obstacles and pose in; a receding-horizon sector-MINCO
+/// trajectory out at `rate_hz`. No LCM, no wall clock in decisions (plan timings are measured
+/// with a steady clock and only reported).
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ucon/kalman/constant_velocity_kalman.hpp"
+#include "ucon/message_clock.hpp"
+#include "ucon/nav_goal_t.hpp"
+#include "ucon/planner/esdf_map.hpp"
+#include "ucon/planner/guide_path.hpp"
+#include "ucon/planner/planner_params.hpp"
+#include "ucon/robot_pose_t.hpp"
+#include "ucon/static_points_t.hpp"
+#include "ucon/status_report.hpp"
+#include "ucon/tracked_objects_t.hpp"
+#include "ucon/trajectory/piecewise_polynomial.hpp"
+#include "ucon/trajectory_t.hpp"
+#include "ucon/trajopt/sector_minco.hpp"
+
+namespace ucon::planner {
+
+/// What one planning cycle ended with (the PLANNER_STATUS value "result").
+enum class PlanResult {
+  kOk = 0,            ///< a checked trajectory was published
+  kGoalReached,       ///< within tolerance: hold position, goal dropped
+  kStopNoFeasible,    ///< the optimiser found nothing safe: stopping trajectory
+  kStopNoPose,        ///< no valid, fresh pose
+  kStopNoMap,         ///< no static map yet
+  kStopStaleObjects,  ///< obstacles too old to trust
+  kCancelled,         ///< goal cancelled: stopping trajectory
+  kKeptPrevious,      ///< the new result failed its check; the previous plan is still safe
+};
+const char* toString(PlanResult r);
+
+/// Per-plan report (also written into the StatusReport).
+struct PlanInfo {
+  PlanResult result = PlanResult::kOk;
+  std::string message;
+  double map_ms = 0.0, front_end_ms = 0.0, optimize_ms = 0.0, check_ms = 0.0, total_ms = 0.0;
+  int iterations = 0;
+  double cost_total = 0.0, cost_energy = 0.0, cost_time = 0.0, cost_static = 0.0,
+         cost_dynamic = 0.0, cost_feasibility = 0.0;
+  GuideStatus guide = GuideStatus::kOk;
+  bool triggered_by_unsafe = false;  ///< replanned early because the current plan became unsafe
+};
+
+/// What a handler asks the process to publish.
+struct PlannerOutputs {
+  std::optional<trajectory_t> trajectory;  ///< PLANNER_TRAJECTORY
+  std::optional<PlanInfo> plan;            ///< set when a planning cycle ran
+};
+
+class PlannerNode {
+ public:
+  /// `report` collects counters, timings and gauges for PLANNER_STATUS; it must outlive the node.
+  PlannerNode(const PlannerParams& params, StatusReport& report);
+  ~PlannerNode();
+  PlannerNode(const PlannerNode&) = delete;
+  PlannerNode& operator=(const PlannerNode&) = delete;
+
+  void onPose(const robot_pose_t& msg);
+  void onObjects(const tracked_objects_t& msg);
+  void onStatic(const static_points_t& msg);
+  /// A new goal replans on the next tick; a cancel publishes a stopping trajectory there.
+  void onGoal(const nav_goal_t& msg);
+  /// Advances "now" to `utime` [us] and replans when due (rate, new goal, unsafe current plan).
+  PlannerOutputs tick(int64_t utime);
+
+  /// The map (benchmarks build it from known geometry; tests inspect it). Call
+  /// notifyMapChanged() after writing to it directly.
+  EsdfMap& map() { return map_; }
+  void notifyMapChanged() {
+    map_dirty_ = true;
+    map_received_ = true;
+  }
+  /// Brings the ESDF up to date around `xy` now (set-up before the first plan, so the first
+  /// plan does not pay for building the distance transform).
+  void prepareMap(const Eigen::Vector2d& xy) {
+    map_.update(xy, true);
+    map_dirty_ = false;
+    map_received_ = true;
+  }
+  const MessageClock& clock() const { return clock_; }
+  /// The trajectory last published (empty before the first).
+  const trajectory::PiecewisePolynomial& currentTrajectory() const { return current_; }
+  bool hasGoal() const { return goal_.has_value(); }
+  const PlannerParams& params() const { return params_; }
+  /// Obstacles accepted from the last objects message (a bad covariance is replaced by the
+  /// conservative fallback of ObjectParams).
+  const std::vector<trajopt::PredictedObstacle>& obstacles() const { return obstacles_; }
+
+  /// The optimiser's post-check (static clearance, predicted obstacle bodies within the check
+  /// horizon, limits) of `traj` from `from_utime` on against the current map and obstacles.
+  trajopt::SafetyCheck check(const trajectory_t& traj, int64_t from_utime) const;
+
+ private:
+  /// Start of a plan: position, velocity, acceleration at `utime`.
+  struct StartState {
+    int64_t utime = 0;
+    Eigen::Vector2d p = Eigen::Vector2d::Zero();
+    Eigen::Vector2d v = Eigen::Vector2d::Zero();
+    Eigen::Vector2d a = Eigen::Vector2d::Zero();
+  };
+  PlannerOutputs plan(int64_t now, bool unsafe_trigger);
+  /// Short detours away from the predicted obstacles when nothing toward the goal passed.
+  trajopt::PlanOutput planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations);
+  trajectory_t stopTrajectory(int64_t now, int8_t status, const std::string& message);
+  trajectory_t finish(const trajectory::PiecewisePolynomial& pp, int64_t now, int8_t status,
+                      const std::string& message);
+  void record(const PlanInfo& info);
+
+  PlannerParams params_;
+  StatusReport& report_;
+  EsdfMap map_;
+  MessageClock clock_;
+  std::optional<robot_pose_t> pose_;
+  std::vector<trajopt::PredictedObstacle> obstacles_;
+  int64_t objects_utime_ = 0;
+  bool objects_seen_ = false;
+  std::optional<nav_goal_t> goal_;
+  bool goal_changed_ = false;
+  bool cancel_pending_ = false;
+  bool map_dirty_ = false;
+  bool map_received_ = false;
+  std::string pending_message_;
+  int64_t static_frames_ = 0;
+  trajectory::PiecewisePolynomial current_;
+  trajectory_t current_msg_{};
+  int8_t current_status_ = trajectory_t::STATUS_INVALID;
+  int64_t last_plan_utime_ = 0;
+  int64_t seq_ = 0;
+  int64_t plan_id_ = 0;
+  class Field;  // EsdfMap as trajopt::DistanceField2D
+  std::unique_ptr<Field> field_;
+  trajopt::TrajectoryOptimizer optimizer_;
+};
+
+}  // namespace ucon::planner

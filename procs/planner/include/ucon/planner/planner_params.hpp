@@ -1,0 +1,59 @@
+#pragma once
+/// @file planner_params.hpp
+/// Parameters of the planner process; deploy/config/planner.yaml maps one-to-one onto them.
+
+#include <string>
+
+#include "ucon/kalman/constant_velocity_kalman.hpp"
+#include "ucon/planner/esdf_map.hpp"
+#include "ucon/planner/guide_path.hpp"
+#include "ucon/trajopt/sector_minco.hpp"
+
+namespace ucon {
+class ConfigReader;
+}
+
+namespace ucon::planner {
+
+/// Goals outside this rectangle are rejected (YAML section `workspace`) [m].
+struct Workspace {
+  double x_min = -100.0, x_max = 100.0, y_min = -100.0, y_max = 100.0;
+  void read(ConfigReader& r);
+  bool contains(double x, double y) const { return x >= x_min && x <= x_max && y >= y_min && y <= y_max; }
+};
+
+/// How tracked objects become the optimiser's obstacles (YAML `objects`).
+struct ObjectParams {
+  double fallback_position_std = 0.5;  ///< replaces a NaN / non-PD position covariance (1 sigma) [m]
+  double fallback_velocity_std = 1.0;  ///< replaces a NaN / non-PD velocity covariance (1 sigma) [m/s]
+  double max_age_s = 0.5;              ///< objects older than this are not trusted: plan stops [s]
+  double max_range = 12.0;             ///< objects farther from the robot are ignored [m]
+  bool include_tentative = true;       ///< plan around tentative tracks as well
+  void read(ConfigReader& r);
+};
+
+/// Everything the planner node needs.
+struct PlannerParams {
+  double rate_hz = 10.0;              ///< replanning rate [Hz], 0.5..100
+  double latency_s = 0.03;            ///< plans start at now + this (expected compute + transport) [s]
+  double horizon_length = 7.0;        ///< longest guide path handed to the optimiser [m]
+  double replan_deviation = 0.5;      ///< robot farther than this from the trajectory: restart from the pose [m]
+  double pose_timeout_s = 0.5;        ///< pose older than this: stop [s]
+  double goal_default_tolerance = 0.3; ///< used when nav_goal_t.tolerance is not > 0 [m]
+  int max_attempts = 3;               ///< optimiser runs per cycle before giving up (slower, then shorter guesses), 1..5
+  double retry_speed_scale = 0.6;     ///< each retry's initial guess is this much slower, 0.1..1
+  int escape_candidates = 3;          ///< short detours tried before a stop (0 = brake at once), 0..16
+  double escape_distance = 2.5;       ///< length of a detour [m], 0.5..10
+  Workspace workspace;
+  ObjectParams objects;
+  kalman::KalmanParams kalman;        ///< prediction model of obstacle state and covariance
+  MapParams map;
+  FrontEndParams front_end;
+  /// Obstacle model (sector | no_uncertainty | fapp), robot radius and limits, weights,
+  /// solver budget and the post-check live here (common/trajopt).
+  trajopt::OptimizerParams optimizer;
+
+  void read(ConfigReader& r);
+};
+
+}  // namespace ucon::planner

@@ -1,0 +1,383 @@
+#include "ucon/planner/esdf_map.hpp"
+
+#include <dynamicEDT3D/dynamicEDTOctomap.h>
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ucon/config.hpp"
+#include "ucon/static_points_t.hpp"
+
+namespace ucon::planner {
+
+void MapParams::read(ConfigReader& r) {
+  r.read("resolution", resolution, 0.02, 1.0);
+  r.read("max_range", max_range, 0.5, 100.0);
+  r.read("band_z_min", band_z_min, -10.0, 10.0);
+  r.read("band_z_max", band_z_max, -10.0, 10.0);
+  r.read("box_half_size", box_half_size, 1.0, 50.0);
+  r.read("recenter_distance", recenter_distance, 0.0, 50.0);
+  r.read("max_distance", max_distance, 0.05, 20.0);
+  r.read("prob_hit", prob_hit, 0.5, 1.0);
+  r.read("prob_miss", prob_miss, 0.0, 0.5);
+  const std::string why = validate();
+  if (!why.empty()) r.fail(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
+}
+
+std::string MapParams::validate() const {
+  if (!(resolution > 0.0)) return "resolution: must be > 0";
+  if (!(band_z_max > band_z_min)) return "band_z_max: must be greater than band_z_min";
+  if (!(max_distance > resolution)) return "max_distance: must exceed resolution";
+  if (!(recenter_distance < box_half_size)) return "recenter_distance: must be below box_half_size";
+  if (!(max_range > 0.0)) return "max_range: must be > 0";
+  return {};
+}
+
+const char* toString(InsertStatus s) {
+  switch (s) {
+    case InsertStatus::kOk: return "ok";
+    case InsertStatus::kInvalidMessage: return "invalid message (valid=false, utime<=0 or bad sizes)";
+    case InsertStatus::kBadOrigin: return "sensor origin not finite";
+    case InsertStatus::kEmpty: return "no finite points";
+  }
+  return "unknown";
+}
+
+namespace {
+
+/// 1-D squared distance transform (Felzenszwalb & Huttenlocher 2012) of f over n samples,
+/// unit spacing, into d. v, z are scratch of size n and n+1.
+void distanceTransform1d(const float* f, int n, float* d, int* v, float* z) {
+  const float inf = std::numeric_limits<float>::infinity();
+  int k = 0;
+  int first = -1;
+  for (int q = 0; q < n; ++q) {
+    if (f[q] < inf) {
+      first = q;
+      break;
+    }
+  }
+  if (first < 0) {
+    for (int q = 0; q < n; ++q) d[q] = inf;
+    return;
+  }
+  v[0] = first;
+  z[0] = -inf;
+  z[1] = inf;
+  for (int q = first + 1; q < n; ++q) {
+    if (!(f[q] < inf)) continue;
+    float s;
+    while (true) {
+      const int p = v[k];
+      s = ((f[q] + float(q) * q) - (f[p] + float(p) * p)) / (2.0f * (q - p));
+      if (s <= z[k] && k > 0) {
+        --k;
+        continue;
+      }
+      break;
+    }
+    if (s <= z[k]) {  // k == 0 and the new parabola dominates everywhere
+      v[0] = q;
+      z[0] = -inf;
+      z[1] = inf;
+      continue;
+    }
+    ++k;
+    v[k] = q;
+    z[k] = s;
+    z[k + 1] = inf;
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while (z[k + 1] < q) ++k;
+    const float dq = float(q - v[k]);
+    d[q] = dq * dq + f[v[k]];
+  }
+}
+
+}  // namespace
+
+struct EsdfMap::Impl {
+  MapParams params;
+  /// The 3-D map: ray insertion, all heights.
+  octomap::OcTree tree;
+  /// Its projection onto one layer: a leaf is occupied when any leaf of the height band above
+  /// it is. The distance transform runs on this single layer, so its cost does not grow with
+  /// the band's height and a 2-D query is one lookup.
+  octomap::OcTree flat;
+  octomap::key_type band_key_min = 0, band_key_max = 0;
+  std::unique_ptr<DynamicEDTOctomap> edt;
+  octomap::OcTreeKey key_min, key_max;
+  Eigen::Vector2d box_center = Eigen::Vector2d::Zero();
+  SliceGeometry slice;
+  std::vector<float> values;  // signed distance per slice cell, row-major (iy * nx + ix)
+  std::vector<uint8_t> occupied;
+  std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
+  std::vector<int> scratch_v;
+  std::vector<std::pair<octomap::key_type, octomap::key_type>> dirty_columns;
+  int64_t incremental = 0;
+  int64_t rebuilds = 0;
+
+  explicit Impl(const MapParams& p) : params(p), tree(p.resolution), flat(p.resolution) {
+    tree.setProbHit(p.prob_hit);
+    tree.setProbMiss(p.prob_miss);
+    tree.enableChangeDetection(true);
+    flat.enableChangeDetection(true);
+    band_key_min = tree.coordToKey(p.band_z_min);
+    band_key_max = tree.coordToKey(p.band_z_max);
+  }
+
+  /// Brings the projection up to date with the 3-D cells changed since the last call.
+  void syncProjection() {
+    dirty_columns.clear();
+    for (auto it = tree.changedKeysBegin(), end = tree.changedKeysEnd(); it != end; ++it) {
+      const octomap::OcTreeKey& k = it->first;
+      if (k[2] < band_key_min || k[2] > band_key_max) continue;
+      dirty_columns.emplace_back(k[0], k[1]);
+    }
+    tree.resetChangeDetection();
+    std::sort(dirty_columns.begin(), dirty_columns.end());
+    dirty_columns.erase(std::unique(dirty_columns.begin(), dirty_columns.end()), dirty_columns.end());
+    for (const auto& [kx, ky] : dirty_columns) {
+      bool occ = false;
+      for (octomap::key_type kz = band_key_min; kz <= band_key_max && !occ; ++kz) {
+        const auto* n = tree.search(octomap::OcTreeKey(kx, ky, kz));
+        occ = n && tree.isNodeOccupied(n);
+      }
+      const octomap::OcTreeKey fk(kx, ky, band_key_min);
+      const auto* existing = flat.search(fk);
+      if (existing ? flat.isNodeOccupied(existing) == occ : !occ) continue;  // unchanged (unknown = free)
+      flat.setNodeValue(fk, occ ? flat.getClampingThresMaxLog() : flat.getClampingThresMinLog());
+    }
+  }
+
+  void rebuild(const Eigen::Vector2d& c) {
+    const double h = params.box_half_size;
+    const float z = float(tree.keyToCoord(band_key_min));
+    const octomap::point3d lo(float(c.x() - h), float(c.y() - h), z);
+    const octomap::point3d hi(float(c.x() + h), float(c.y() + h), z);
+    edt.reset();  // free the old grid before allocating the new one
+    edt = std::make_unique<DynamicEDTOctomap>(float(params.max_distance), &flat, lo, hi, false);
+    // The constructor read the whole box from the projection: pending changes are in it.
+    flat.resetChangeDetection();
+    edt->update(true);
+    key_min = flat.coordToKey(lo);
+    key_max = flat.coordToKey(hi);
+    box_center = c;
+    ++rebuilds;
+  }
+
+  void computeSlice() {
+    const int nx = key_max[0] - key_min[0] + 1;
+    const int ny = key_max[1] - key_min[1] + 1;
+    const double res = tree.getResolution();
+    const octomap::point3d corner = tree.keyToCoord(key_min);
+    slice.origin = Eigen::Vector2d(corner.x() - 0.5 * res, corner.y() - 0.5 * res);
+    slice.resolution = res;
+    slice.nx = nx;
+    slice.ny = ny;
+    const std::size_t n = std::size_t(nx) * std::size_t(ny);
+    values.assign(n, 0.0f);
+    occupied.assign(n, 0);
+    bool any_occupied = false;
+    const float half = float(0.5 * res);
+    const float cap = float(params.max_distance);
+    for (int iy = 0; iy < ny; ++iy) {
+      for (int ix = 0; ix < nx; ++ix) {
+        const octomap::OcTreeKey k(key_min[0] + ix, key_min[1] + iy, key_min[2]);
+        const float dmin = edt->getDistance_unsafe(k);
+        const std::size_t i = std::size_t(iy) * nx + ix;
+        if (dmin <= 0.0f) {
+          occupied[i] = 1;
+          any_occupied = true;
+        } else {
+          // Distance from this cell centre to the nearest occupied cell's boundary (approx.).
+          values[i] = std::min(cap, dmin - half);
+        }
+      }
+    }
+    if (any_occupied) computeInterior(nx, ny, half, cap);
+  }
+
+  /// Inside obstacles: minus the distance to the nearest free cell (so the optimiser has a
+  /// gradient that pushes out of an obstacle instead of a flat zero).
+  void computeInterior(int nx, int ny, float half, float cap) {
+    const float inf = std::numeric_limits<float>::infinity();
+    const int m = std::max(nx, ny);
+    scratch_f.resize(std::size_t(nx) * ny);
+    scratch_col.resize(m);
+    scratch_d.resize(m);
+    scratch_z.resize(m + 1);
+    scratch_v.resize(m);
+    for (std::size_t i = 0; i < scratch_f.size(); ++i) scratch_f[i] = occupied[i] ? inf : 0.0f;
+    // Columns (along y) then rows (along x).
+    for (int ix = 0; ix < nx; ++ix) {
+      for (int iy = 0; iy < ny; ++iy) scratch_col[iy] = scratch_f[std::size_t(iy) * nx + ix];
+      distanceTransform1d(scratch_col.data(), ny, scratch_d.data(), scratch_v.data(),
+                          scratch_z.data());
+      for (int iy = 0; iy < ny; ++iy) scratch_f[std::size_t(iy) * nx + ix] = scratch_d[iy];
+    }
+    for (int iy = 0; iy < ny; ++iy) {
+      float* row = &scratch_f[std::size_t(iy) * nx];
+      distanceTransform1d(row, nx, scratch_d.data(), scratch_v.data(), scratch_z.data());
+      for (int ix = 0; ix < nx; ++ix) {
+        const std::size_t i = std::size_t(iy) * nx + ix;
+        if (!occupied[i]) continue;
+        const float din = std::sqrt(scratch_d[ix]) * float(slice.resolution);
+        values[i] = std::isfinite(din) ? -std::min(cap, din - half) : -cap;
+      }
+    }
+  }
+};
+
+EsdfMap::EsdfMap(const MapParams& params) : impl_(std::make_unique<Impl>(params)) {}
+EsdfMap::~EsdfMap() = default;
+
+InsertStatus EsdfMap::insert(const static_points_t& msg, int64_t* skipped) {
+  if (!msg.valid || msg.utime <= 0 || msg.num_points < 0 ||
+      msg.x.size() != std::size_t(msg.num_points) || msg.y.size() != std::size_t(msg.num_points) ||
+      msg.z.size() != std::size_t(msg.num_points)) {
+    return InsertStatus::kInvalidMessage;
+  }
+  std::vector<Eigen::Vector3f> pts(std::size_t(msg.num_points));
+  for (int i = 0; i < msg.num_points; ++i) pts[i] = Eigen::Vector3f(msg.x[i], msg.y[i], msg.z[i]);
+  double range = impl_->params.max_range;
+  if (std::isfinite(msg.max_range) && msg.max_range > 0.0f) range = std::min(range, double(msg.max_range));
+  return insert(Eigen::Vector3d(msg.origin_x, msg.origin_y, msg.origin_z), pts, range, skipped);
+}
+
+InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3f>& points,
+                             double max_range, int64_t* skipped) {
+  if (!origin.allFinite()) return InsertStatus::kBadOrigin;
+  octomap::Pointcloud cloud;
+  cloud.reserve(points.size());
+  int64_t bad = 0;
+  for (const auto& p : points) {
+    if (!p.allFinite()) {
+      ++bad;
+      continue;
+    }
+    cloud.push_back(p.x(), p.y(), p.z());
+  }
+  if (skipped) *skipped += bad;
+  if (cloud.size() == 0) return InsertStatus::kEmpty;
+  const octomap::point3d o(float(origin.x()), float(origin.y()), float(origin.z()));
+  const double range = (std::isfinite(max_range) && max_range > 0.0) ? max_range : impl_->params.max_range;
+  impl_->tree.insertPointCloud(cloud, o, range, /*lazy_eval=*/false, /*discretize=*/true);
+  return InsertStatus::kOk;
+}
+
+void EsdfMap::setCell(const Eigen::Vector3d& p, bool occupied) {
+  if (!p.allFinite()) return;
+  octomap::OcTreeKey key;
+  if (!impl_->tree.coordToKeyChecked(octomap::point3d(float(p.x()), float(p.y()), float(p.z())), key)) return;
+  auto& t = impl_->tree;
+  t.setNodeValue(key, occupied ? t.getClampingThresMaxLog() : t.getClampingThresMinLog());
+}
+
+void EsdfMap::addCylinder(double x, double y, double radius) {
+  const double res = impl_->tree.getResolution();
+  const double z0 = impl_->params.band_z_min;
+  const double z1 = impl_->params.band_z_max;
+  for (double yy = std::floor((y - radius) / res) * res + 0.5 * res; yy <= y + radius; yy += res) {
+    for (double xx = std::floor((x - radius) / res) * res + 0.5 * res; xx <= x + radius; xx += res) {
+      if ((xx - x) * (xx - x) + (yy - y) * (yy - y) > radius * radius) continue;
+      for (double zz = std::floor(z0 / res) * res + 0.5 * res; zz <= z1 + 0.5 * res; zz += res) {
+        setCell(Eigen::Vector3d(xx, yy, zz), true);
+      }
+    }
+  }
+}
+
+void EsdfMap::addBox(double x0, double y0, double x1, double y1) {
+  const double res = impl_->tree.getResolution();
+  const double z0 = impl_->params.band_z_min;
+  const double z1 = impl_->params.band_z_max;
+  for (double yy = std::floor(y0 / res) * res + 0.5 * res; yy <= y1; yy += res) {
+    for (double xx = std::floor(x0 / res) * res + 0.5 * res; xx <= x1; xx += res) {
+      if (xx < x0 || yy < y0) continue;
+      for (double zz = std::floor(z0 / res) * res + 0.5 * res; zz <= z1 + 0.5 * res; zz += res) {
+        setCell(Eigen::Vector3d(xx, yy, zz), true);
+      }
+    }
+  }
+}
+
+bool EsdfMap::isOccupied(const Eigen::Vector3d& p) const {
+  auto* n = impl_->tree.search(p.x(), p.y(), p.z());
+  return n && impl_->tree.isNodeOccupied(n);
+}
+
+bool EsdfMap::update(const Eigen::Vector2d& robot_xy, bool force_rebuild) {
+  Impl& m = *impl_;
+  Eigen::Vector2d c = robot_xy.allFinite() ? robot_xy : m.box_center;
+  bool rebuilt = false;
+  m.syncProjection();
+  if (!m.edt || force_rebuild ||
+      (c - m.box_center).cwiseAbs().maxCoeff() >= m.params.recenter_distance) {
+    m.rebuild(c);
+    rebuilt = true;
+  } else {
+    m.edt->update(true);  // only the cells changed since the last update
+    ++m.incremental;
+  }
+  m.computeSlice();
+  return rebuilt;
+}
+
+bool EsdfMap::ready() const { return impl_->edt != nullptr; }
+
+double EsdfMap::distance(double x, double y, Eigen::Vector2d* grad) const {
+  const Impl& m = *impl_;
+  const SliceGeometry& s = m.slice;
+  if (!m.edt || s.nx < 2 || s.ny < 2 || !std::isfinite(x) || !std::isfinite(y)) {
+    if (grad) grad->setZero();
+    return m.params.max_distance;
+  }
+  const double inv = 1.0 / s.resolution;
+  double u = (x - s.origin.x()) * inv - 0.5;
+  double v = (y - s.origin.y()) * inv - 0.5;
+  bool inside_x = true, inside_y = true;
+  if (u < 0.0) { u = 0.0; inside_x = false; }
+  if (v < 0.0) { v = 0.0; inside_y = false; }
+  if (u > s.nx - 1) { u = s.nx - 1; inside_x = false; }
+  if (v > s.ny - 1) { v = s.ny - 1; inside_y = false; }
+  int i0 = std::min(int(u), s.nx - 2);
+  int j0 = std::min(int(v), s.ny - 2);
+  const double tx = u - i0;
+  const double ty = v - j0;
+  const float* row0 = &m.values[std::size_t(j0) * s.nx];
+  const float* row1 = row0 + s.nx;
+  const double d00 = row0[i0], d10 = row0[i0 + 1], d01 = row1[i0], d11 = row1[i0 + 1];
+  const double a = d00 + tx * (d10 - d00);
+  const double b = d01 + tx * (d11 - d01);
+  if (grad) {
+    (*grad)(0) = inside_x ? ((1.0 - ty) * (d10 - d00) + ty * (d11 - d01)) * inv : 0.0;
+    (*grad)(1) = inside_y ? (b - a) * inv : 0.0;
+  }
+  return a + ty * (b - a);
+}
+
+double EsdfMap::cellDistance(int ix, int iy) const {
+  const SliceGeometry& s = impl_->slice;
+  if (!s.contains(ix, iy)) return impl_->params.max_distance;
+  return impl_->values[std::size_t(iy) * s.nx + ix];
+}
+
+const SliceGeometry& EsdfMap::slice() const { return impl_->slice; }
+Eigen::Vector2d EsdfMap::boxCenter() const { return impl_->box_center; }
+int64_t EsdfMap::incrementalUpdates() const { return impl_->incremental; }
+int64_t EsdfMap::rebuilds() const { return impl_->rebuilds; }
+const MapParams& EsdfMap::params() const { return impl_->params; }
+
+std::size_t EsdfMap::occupiedLeafCount() const {
+  std::size_t n = 0;
+  for (auto it = impl_->tree.begin_leafs(), end = impl_->tree.end_leafs(); it != end; ++it) {
+    if (impl_->tree.isNodeOccupied(*it)) n += std::size_t(1) << (3 * (impl_->tree.getTreeDepth() - it.getDepth()));
+  }
+  return n;
+}
+
+}  // namespace ucon::planner

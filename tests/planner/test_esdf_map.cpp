@@ -1,0 +1,225 @@
+// The planner's map: ESDF slice against brute force on random maps, incremental update equal
+// to a fresh build, ray insertion clears free space, interpolation and its gradient.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "ucon/planner/esdf_map.hpp"
+#include "ucon/static_points_t.hpp"
+
+using ucon::planner::EsdfMap;
+using ucon::planner::MapParams;
+
+namespace {
+
+MapParams smallParams() {
+  MapParams p;
+  p.resolution = 0.1;
+  p.band_z_min = 0.1;
+  p.band_z_max = 0.4;
+  p.box_half_size = 4.0;
+  p.recenter_distance = 1.0;
+  p.max_distance = 1.5;
+  return p;
+}
+
+using Cell = std::pair<int, int>;  // integer cell indices in x, y (world / resolution, floored)
+
+Eigen::Vector2d centreOf(const Cell& c, double res) {
+  return Eigen::Vector2d((c.first + 0.5) * res, (c.second + 0.5) * res);
+}
+
+void occupy(EsdfMap& m, const Cell& c, bool occ) {
+  const double res = m.params().resolution;
+  const Eigen::Vector2d xy = centreOf(c, res);
+  m.setCell(Eigen::Vector3d(xy.x(), xy.y(), 0.25), occ);
+}
+
+std::set<Cell> randomCells(std::mt19937& rng, int n, int lo, int hi) {
+  std::uniform_int_distribution<int> u(lo, hi);
+  std::set<Cell> cells;
+  while (int(cells.size()) < n) cells.insert({u(rng), u(rng)});
+  return cells;
+}
+
+/// Brute-force expected slice value at a free cell centre q: distance to the nearest occupied
+/// cell centre minus half a cell, capped.
+double bruteForce(const std::set<Cell>& occ, const Eigen::Vector2d& q, double res, double cap) {
+  double best = 1e9;
+  for (const auto& c : occ) best = std::min(best, (centreOf(c, res) - q).norm());
+  return std::min(cap, best - 0.5 * res);
+}
+
+}  // namespace
+
+TEST(EsdfMap, GivenRandomOccupiedCellsWhenUpdatedThenSliceDistancesMatchBruteForce) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    std::mt19937 rng(seed);
+    EsdfMap map(smallParams());
+    const auto occ = randomCells(rng, 40, -30, 29);
+    for (const auto& c : occ) occupy(map, c, true);
+    map.update(Eigen::Vector2d(0.0, 0.0));
+    const auto& s = map.slice();
+    ASSERT_GT(s.nx, 70);
+    ASSERT_GT(s.ny, 70);
+    double max_err = 0.0;
+    int free_cells = 0, occupied_cells = 0;
+    for (int iy = 0; iy < s.ny; ++iy) {
+      for (int ix = 0; ix < s.nx; ++ix) {
+        const Eigen::Vector2d q = s.cellCenter(ix, iy);
+        const Cell c{int(std::floor(q.x() / 0.1 + 1e-6)), int(std::floor(q.y() / 0.1 + 1e-6))};
+        const double got = map.cellDistance(ix, iy);
+        if (occ.count(c)) {
+          EXPECT_LT(got, 0.0) << "occupied cell reads as free at " << q.transpose();
+          ++occupied_cells;
+          continue;
+        }
+        ++free_cells;
+        // Obstacles outside the box are not seen by the ESDF: only compare where the brute
+        // force's nearest obstacle is inside the box.
+        const double want = bruteForce(occ, q, 0.1, map.params().max_distance);
+        max_err = std::max(max_err, std::abs(got - want));
+      }
+    }
+    EXPECT_EQ(occupied_cells, int(occ.size()));
+    EXPECT_GT(free_cells, 1000);
+    EXPECT_LT(max_err, 1e-4) << "seed " << seed;
+  }
+}
+
+TEST(EsdfMap, GivenInsertionsAndClearingsWhenUpdatedIncrementallyThenSliceEqualsAFreshBuild) {
+  std::mt19937 rng(7);
+  const MapParams p = smallParams();
+  EsdfMap incremental(p);
+  auto first = randomCells(rng, 60, -35, 34);
+  for (const auto& c : first) occupy(incremental, c, true);
+  incremental.update(Eigen::Vector2d(0.2, -0.1));
+  // Clear half of them, add new ones, update incrementally (box does not move).
+  std::set<Cell> final_cells;
+  int k = 0;
+  for (const auto& c : first) {
+    if (k++ % 2 == 0) {
+      occupy(incremental, c, false);
+    } else {
+      final_cells.insert(c);
+    }
+  }
+  for (const auto& c : randomCells(rng, 30, -35, 34)) {
+    occupy(incremental, c, true);
+    final_cells.insert(c);
+  }
+  const bool rebuilt = incremental.update(Eigen::Vector2d(0.3, 0.0));
+  EXPECT_FALSE(rebuilt);
+  EXPECT_EQ(incremental.incrementalUpdates(), 1);
+
+  EsdfMap fresh(p);
+  for (const auto& c : final_cells) occupy(fresh, c, true);
+  fresh.update(Eigen::Vector2d(0.2, -0.1));
+  const auto& a = incremental.slice();
+  const auto& b = fresh.slice();
+  ASSERT_EQ(a.nx, b.nx);
+  ASSERT_EQ(a.ny, b.ny);
+  ASSERT_NEAR(a.origin.x(), b.origin.x(), 1e-9);
+  ASSERT_NEAR(a.origin.y(), b.origin.y(), 1e-9);
+  int differing = 0;
+  for (int iy = 0; iy < a.ny; ++iy)
+    for (int ix = 0; ix < a.nx; ++ix)
+      if (std::abs(incremental.cellDistance(ix, iy) - fresh.cellDistance(ix, iy)) > 1e-4) ++differing;
+  EXPECT_EQ(differing, 0);
+}
+
+TEST(EsdfMap, GivenTheRobotMovesFarWhenUpdatedThenTheBoxIsRebuiltAroundIt) {
+  EsdfMap map(smallParams());
+  occupy(map, {60, 0}, true);  // at x = 6.05, outside the first box
+  map.update(Eigen::Vector2d(0, 0));
+  EXPECT_NEAR(map.distance(5.0, 0.05, nullptr), map.params().max_distance, 1e-9);  // outside
+  EXPECT_TRUE(map.update(Eigen::Vector2d(5.0, 0.0)));
+  EXPECT_EQ(map.rebuilds(), 2);
+  EXPECT_NEAR(map.distance(5.05, 0.05, nullptr), 1.0 - 0.05, 1e-4);
+}
+
+TEST(EsdfMap, GivenRaysThroughAnOldObstacleWhenInsertedRepeatedlyThenItIsClearedAndEndpointsOccupied) {
+  MapParams p = smallParams();
+  EsdfMap map(p);
+  const Eigen::Vector3d origin(0.0, 0.0, 0.25);
+  // A wall of points at x = 2.
+  std::vector<Eigen::Vector3f> wall;
+  for (double y = -0.5; y <= 0.5; y += 0.05) wall.emplace_back(2.05f, float(y), 0.25f);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(map.insert(origin, wall, 10.0), ucon::planner::InsertStatus::kOk);
+  EXPECT_TRUE(map.isOccupied(Eigen::Vector3d(2.05, 0.0, 0.25)));
+  EXPECT_FALSE(map.isOccupied(Eigen::Vector3d(1.0, 0.0, 0.25)));
+  map.update(Eigen::Vector2d(0, 0));
+  EXPECT_LT(map.distance(2.05, 0.05, nullptr), 0.0);
+  EXPECT_NEAR(map.distance(1.05, 0.05, nullptr), 0.95, 1e-3);
+  // The wall moves back to x = 3: rays now pass through x = 2 and clear it.
+  std::vector<Eigen::Vector3f> far_wall;  // wider, so its rays sweep the whole old wall
+  for (double y = -0.8; y <= 0.8; y += 0.05) far_wall.emplace_back(3.05f, float(y), 0.25f);
+  for (int i = 0; i < 10; ++i) map.insert(origin, far_wall, 10.0);
+  EXPECT_FALSE(map.isOccupied(Eigen::Vector3d(2.05, 0.0, 0.25)));
+  EXPECT_TRUE(map.isOccupied(Eigen::Vector3d(3.05, 0.0, 0.25)));
+  map.update(Eigen::Vector2d(0, 0));
+  EXPECT_NEAR(map.distance(2.05, 0.05, nullptr), 0.95, 1e-3);
+  // Points beyond the maximum range only clear; nothing becomes occupied there.
+  std::vector<Eigen::Vector3f> beyond{Eigen::Vector3f(0.05f, 3.05f, 0.25f)};
+  map.insert(origin, beyond, 2.0);
+  EXPECT_FALSE(map.isOccupied(Eigen::Vector3d(0.05, 3.05, 0.25)));
+}
+
+TEST(EsdfMap, GivenBadMessagesWhenInsertedThenTheyAreRejectedAndNaNPointsSkipped) {
+  EsdfMap map(smallParams());
+  ucon::static_points_t msg{};
+  msg.utime = 10;
+  msg.valid = false;
+  EXPECT_EQ(map.insert(msg), ucon::planner::InsertStatus::kInvalidMessage);
+  msg.valid = true;
+  msg.num_points = 2;  // arrays empty: size mismatch
+  EXPECT_EQ(map.insert(msg), ucon::planner::InsertStatus::kInvalidMessage);
+  msg.x = {1.0f, NAN};
+  msg.y = {0.0f, 0.0f};
+  msg.z = {0.25f, 0.25f};
+  msg.origin_x = NAN;
+  EXPECT_EQ(map.insert(msg), ucon::planner::InsertStatus::kBadOrigin);
+  msg.origin_x = 0.0;
+  msg.origin_z = 0.25;
+  msg.max_range = 5.0f;
+  int64_t skipped = 0;
+  EXPECT_EQ(map.insert(msg, &skipped), ucon::planner::InsertStatus::kOk);
+  EXPECT_EQ(skipped, 1);
+  EXPECT_TRUE(map.isOccupied(Eigen::Vector3d(1.0, 0.0, 0.25)));
+}
+
+TEST(EsdfMap, GivenAMapWhenQueriedBetweenCellsThenTheGradientMatchesFiniteDifferences) {
+  EsdfMap map(smallParams());
+  map.addCylinder(0.0, 0.0, 0.5);
+  map.addBox(1.5, -2.0, 2.0, 2.0);
+  map.update(Eigen::Vector2d(0, 0));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  int checked = 0;
+  for (int i = 0; i < 500; ++i) {
+    const double x = u(rng), y = u(rng);
+    Eigen::Vector2d g;
+    const double d = map.distance(x, y, &g);
+    const double h = 1e-6;
+    // Skip points within h of a cell-centre line, where the interpolant has a kink.
+    const double fx = (x - map.slice().origin.x()) / 0.1 - 0.5, fy = (y - map.slice().origin.y()) / 0.1 - 0.5;
+    if (std::abs(fx - std::round(fx)) < 1e-4 || std::abs(fy - std::round(fy)) < 1e-4) continue;
+    const double gx = (map.distance(x + h, y, nullptr) - map.distance(x - h, y, nullptr)) / (2 * h);
+    const double gy = (map.distance(x, y + h, nullptr) - map.distance(x, y - h, nullptr)) / (2 * h);
+    EXPECT_NEAR(g.x(), gx, 1e-5);
+    EXPECT_NEAR(g.y(), gy, 1e-5);
+    EXPECT_TRUE(std::isfinite(d));
+    ++checked;
+  }
+  EXPECT_GT(checked, 400);
+  // Inside the cylinder the signed distance is negative and points outwards.
+  Eigen::Vector2d g;
+  EXPECT_LT(map.distance(0.23, 0.02, &g), -0.1);
+  EXPECT_GT(g.x(), 0.5);
+  // Far from everything: the cap.
+  EXPECT_NEAR(map.distance(-3.0, 3.0, nullptr), map.params().max_distance, 1e-6);
+}

@@ -1,0 +1,371 @@
+// The planner node, called through its handlers: plans around static obstacles, replans at
+// the configured rate with continuous p/v/a, replans at once when its plan becomes unsafe,
+// stops with a clear status on bad or missing input, is deterministic.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "ucon/config.hpp"
+#include "ucon/planner/planner_node.hpp"
+#include "ucon/planner/planner_params.hpp"
+
+using namespace ucon;
+using namespace ucon::planner;
+
+namespace {
+
+constexpr int64_t kT0 = 1'000'000;  // first message time [us]
+
+PlannerParams loadDeployParams() {
+  std::ifstream f(std::string(UCON_SOURCE_DIR) + "/deploy/config/planner.yaml");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  std::vector<ConfigError> errors;
+  auto p = loadParams<PlannerParams>(ss.str(), "planner.yaml", &errors);
+  EXPECT_TRUE(p.has_value()) << (errors.empty() ? "" : errors.front().toString());
+  return p.value_or(PlannerParams{});
+}
+
+robot_pose_t pose(int64_t utime, double x, double y, double vx = 0.0, double vy = 0.0) {
+  robot_pose_t m{};
+  m.utime = utime;
+  m.valid = true;
+  m.x = x;
+  m.y = y;
+  m.qw = 1.0;
+  m.vx = vx;
+  m.vy = vy;
+  m.ax = NAN;
+  m.ay = NAN;
+  return m;
+}
+
+tracked_object_t object(int64_t id, double x, double y, double vx, double vy, double var = 0.01) {
+  tracked_object_t o{};
+  o.id = id;
+  o.state = tracked_object_t::STATE_CONFIRMED;
+  o.x = x;
+  o.y = y;
+  o.z = 0.8;
+  o.vx = vx;
+  o.vy = vy;
+  o.cov_size = 36;
+  o.cov.assign(36, 0.0);
+  for (int i = 0; i < 6; ++i) o.cov[i * 7] = var;
+  o.size_x = 0.5;
+  o.size_y = 0.5;
+  o.size_z = 1.7;
+  return o;
+}
+
+tracked_objects_t objects(int64_t utime, std::vector<tracked_object_t> objs = {}) {
+  tracked_objects_t m{};
+  m.utime = utime;
+  m.valid = true;
+  m.frame_id = "world";
+  m.num_objects = int32_t(objs.size());
+  m.objects = std::move(objs);
+  return m;
+}
+
+nav_goal_t goal(int64_t utime, double x, double y, int64_t id = 1) {
+  nav_goal_t g{};
+  g.utime = utime;
+  g.goal_id = id;
+  g.action = nav_goal_t::ACTION_GO;
+  g.x = x;
+  g.y = y;
+  g.yaw = NAN;
+  g.tolerance = 0.3;
+  return g;
+}
+
+/// A node with a known map: a wall segment across the straight line from (0,0) to (5,0).
+struct Fixture {
+  PlannerParams params = loadDeployParams();
+  StatusReport report{"planner"};
+  std::unique_ptr<PlannerNode> node;
+  explicit Fixture(bool with_wall = true) {
+    node = std::make_unique<PlannerNode>(params, report);
+    if (with_wall) node->map().addBox(2.4, -1.0, 2.7, 1.0);
+    node->map().addCylinder(50.0, 50.0, 0.3);  // something, so the map is not empty
+    node->notifyMapChanged();
+  }
+  void feed(int64_t t, double x = 0.0, double y = 0.0, std::vector<tracked_object_t> objs = {}) {
+    node->onPose(pose(t, x, y));
+    node->onObjects(objects(t, std::move(objs)));
+  }
+};
+
+double minMapDistance(PlannerNode& node, const trajectory::PiecewisePolynomial& pp) {
+  double worst = 1e9;
+  for (double t = 0; t <= pp.duration(); t += 0.01) {
+    const auto p = pp.sampleRelative(t).position;
+    worst = std::min(worst, node.map().distance(p.x(), p.y(), nullptr));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(PlannerNode, GivenAWallOnTheWayWhenAGoalArrivesThenTheTrajectoryGoesAroundItFromNowPlusLatency) {
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  const auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.trajectory);
+  ASSERT_TRUE(out.plan);
+  EXPECT_EQ(out.plan->result, PlanResult::kOk) << out.plan->message;
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_OK);
+  EXPECT_EQ(out.trajectory->goal_id, 1);
+  EXPECT_EQ(out.trajectory->start_utime, kT0 + int64_t(f.params.latency_s * 1e6));
+  const auto& pp = f.node->currentTrajectory();
+  ASSERT_TRUE(pp.valid());
+  EXPECT_NEAR(pp.sampleRelative(0).position.x(), 0.0, 1e-9);
+  EXPECT_NEAR(pp.sampleRelative(pp.duration()).position.x(), 5.0, 1e-6);
+  EXPECT_NEAR(pp.sampleRelative(pp.duration()).velocity.norm(), 0.0, 1e-6);
+  EXPECT_GE(minMapDistance(*f.node, pp), f.params.optimizer.robot_radius);
+  EXPECT_GT(out.plan->iterations, 0);
+  EXPECT_GT(out.plan->cost_energy, 0.0);
+}
+
+TEST(PlannerNode, GivenTicksEvery20msThenItReplansAt10HzWithContinuousState) {
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  std::vector<trajectory_t> plans;
+  trajectory::PiecewisePolynomial previous;
+  for (int k = 0; k <= 50; ++k) {  // 1 s
+    const int64_t t = kT0 + k * 20000;
+    // The robot follows its plan exactly.
+    Eigen::Vector3d p = f.node->currentTrajectory().valid() ? f.node->currentTrajectory().position(t)
+                                                           : Eigen::Vector3d::Zero();
+    f.feed(t, p.x(), p.y());
+    const auto out = f.node->tick(t);
+    if (!out.trajectory) continue;
+    ASSERT_EQ(out.trajectory->status, trajectory_t::STATUS_OK) << out.trajectory->message;
+    if (previous.valid()) {
+      // The new plan starts where the old one is at its start time: p, v, a continuous.
+      const auto a = previous.sample(out.trajectory->start_utime);
+      const auto b = f.node->currentTrajectory().sampleRelative(0.0);
+      EXPECT_LT((a.position - b.position).norm(), 1e-6);
+      EXPECT_LT((a.velocity - b.velocity).norm(), 1e-6);
+      EXPECT_LT((a.acceleration - b.acceleration).norm(), 1e-6);
+    }
+    previous = f.node->currentTrajectory();
+    plans.push_back(*out.trajectory);
+  }
+  EXPECT_EQ(plans.size(), 11u);  // t = 0, 0.1, ..., 1.0 s
+  for (std::size_t i = 1; i < plans.size(); ++i) EXPECT_EQ(plans[i].plan_id, plans[i - 1].plan_id + 1);
+}
+
+TEST(PlannerNode, GivenAnObstacleThatAppearsOnThePlanWhenTickedThenItReplansAtOnce) {
+  Fixture f(false);
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 6.0, 0.0));
+  ASSERT_TRUE(f.node->tick(kT0).trajectory);
+  // 20 ms later an obstacle sits on the path, coming toward the robot.
+  const int64_t t = kT0 + 20000;
+  const auto p = f.node->currentTrajectory().position(t);
+  f.feed(t, p.x(), p.y(), {object(7, 1.5, 0.0, -0.5, 0.0)});
+  const auto out = f.node->tick(t);
+  ASSERT_TRUE(out.plan);
+  EXPECT_TRUE(out.plan->triggered_by_unsafe);
+  EXPECT_GE(f.report.counter("replans_unsafe"), 1);
+  ASSERT_TRUE(out.trajectory);
+  // Whatever it chose (a detour or a stop), the new trajectory passes its own check.
+  if (out.trajectory->status == trajectory_t::STATUS_OK) {
+    EXPECT_EQ(f.node->check(*out.trajectory, t).status, trajopt::PlanStatus::kOk);
+  }
+}
+
+TEST(PlannerNode, GivenNoPoseWhenAGoalArrivesThenItSaysSoAndPublishesNothingToFollow) {
+  Fixture f;
+  f.node->onObjects(objects(kT0));
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  const auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.plan);
+  EXPECT_EQ(out.plan->result, PlanResult::kStopNoPose);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_NE(out.trajectory->status, trajectory_t::STATUS_OK);
+  const auto st = f.report.build(kT0, 0);
+  EXPECT_EQ(st.health, process_status_t::HEALTH_ERROR);
+  EXPECT_NE(st.message.find("pose"), std::string::npos) << st.message;
+}
+
+TEST(PlannerNode, GivenNoMapYetWhenAGoalArrivesThenItStopsWithStatusNoMap) {
+  PlannerParams params = loadDeployParams();
+  StatusReport report("planner");
+  PlannerNode node(params, report);
+  node.onPose(pose(kT0, 0, 0));
+  node.onObjects(objects(kT0));
+  node.onGoal(goal(kT0, 5.0, 0.0));
+  const auto out = node.tick(kT0);
+  ASSERT_TRUE(out.plan);
+  EXPECT_EQ(out.plan->result, PlanResult::kStopNoMap);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
+}
+
+TEST(PlannerNode, GivenANaNGoalOrOneOutsideTheMapThenItIsRejectedWithAReason) {
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, NAN, 0.0));
+  EXPECT_FALSE(f.node->hasGoal());
+  auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
+  EXPECT_NE(out.trajectory->message.find("not finite"), std::string::npos) << out.trajectory->message;
+  f.node->onGoal(goal(kT0, 500.0, 0.0));
+  EXPECT_FALSE(f.node->hasGoal());
+  out = f.node->tick(kT0 + 1000);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_NE(out.trajectory->message.find("outside the map"), std::string::npos) << out.trajectory->message;
+  EXPECT_EQ(f.report.counter("goals_rejected"), 2);
+  EXPECT_EQ(f.report.build(kT0, 0).health, process_status_t::HEALTH_WARN);
+}
+
+TEST(PlannerNode, GivenAGoalInsideAnObstacleThenItHeadsForTheNearestSafePointAndSaysSo) {
+  Fixture f;
+  f.node->map().addCylinder(4.0, 3.0, 0.8);
+  f.node->notifyMapChanged();
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 4.0, 3.0));
+  const auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.plan);
+  EXPECT_EQ(out.plan->guide, GuideStatus::kGoalInCollision);
+  EXPECT_EQ(f.report.counter("goal_in_collision"), 1);
+  ASSERT_TRUE(out.trajectory);
+  if (out.trajectory->status == trajectory_t::STATUS_OK) {
+    const auto& pp = f.node->currentTrajectory();
+    const auto end = pp.sampleRelative(pp.duration()).position;
+    EXPECT_GE(f.node->map().distance(end.x(), end.y(), nullptr), f.params.optimizer.robot_radius);
+    EXPECT_GE(minMapDistance(*f.node, pp), f.params.optimizer.robot_radius);
+    EXPECT_NE(out.trajectory->message.find("inside an obstacle"), std::string::npos);
+  }
+  EXPECT_EQ(f.report.build(kT0, 0).health, process_status_t::HEALTH_WARN);
+}
+
+TEST(PlannerNode, GivenObstaclesWithNaNOrNonPDCovarianceThenNaNIsDroppedAndBadCovarianceWidened) {
+  Fixture f(false);
+  f.node->onPose(pose(kT0, 0, 0));
+  auto nan_obj = object(1, NAN, 0.0, 0.0, 0.0);
+  auto bad_cov = object(2, 3.0, 0.0, 0.0, 0.0);
+  bad_cov.cov[0] = -1.0;  // not positive definite
+  auto nan_cov = object(3, 3.0, 2.0, 0.0, 0.0);
+  nan_cov.cov[7] = NAN;
+  f.node->onObjects(objects(kT0, {nan_obj, bad_cov, nan_cov, object(4, -3.0, 0.0, 0.0, 0.0)}));
+  EXPECT_EQ(f.report.counter("objects_nan_dropped"), 1);
+  EXPECT_EQ(f.report.counter("objects_bad_covariance"), 2);
+  ASSERT_EQ(f.node->obstacles().size(), 3u);
+  EXPECT_NEAR(f.node->obstacles()[0].covariance(0, 0), f.params.objects.fallback_position_std *
+                                                             f.params.objects.fallback_position_std, 1e-12);
+  // Planning through the static obstacle at (3, 0) is not an option: the trajectory avoids it.
+  f.node->onGoal(goal(kT0, 6.0, 0.0));
+  const auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.trajectory);
+  if (out.trajectory->status == trajectory_t::STATUS_OK) {
+    const auto& pp = f.node->currentTrajectory();
+    for (double t = 0; t <= 2.0; t += 0.02) {
+      const auto p = pp.sampleRelative(t).position;
+      EXPECT_GT(std::hypot(p.x() - 3.0, p.y()), f.params.optimizer.robot_radius + 0.35);
+    }
+  }
+}
+
+TEST(PlannerNode, GivenStaleObstaclesThenItStops) {
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  ASSERT_EQ(f.node->tick(kT0).trajectory->status, trajectory_t::STATUS_OK);
+  const int64_t t = kT0 + 2'000'000;  // poses keep coming, objects do not
+  f.node->onPose(pose(t, 1.0, 0.0));
+  const auto out = f.node->tick(t);
+  ASSERT_TRUE(out.plan);
+  EXPECT_EQ(out.plan->result, PlanResult::kStopStaleObjects);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
+}
+
+TEST(PlannerNode, GivenObjectFramesOlderThanTheLatestPoseThenTheyAreUsedNotDroppedAsOutOfOrder) {
+  // Perception stamps objects with the LiDAR frame's time; poses (100 Hz) are newer by the time
+  // they arrive. Those frames are current, and the planner must keep planning with them.
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  ASSERT_EQ(f.node->tick(kT0).trajectory->status, trajectory_t::STATUS_OK);
+  int64_t t = kT0;
+  for (int k = 1; k <= 20; ++k) {
+    t = kT0 + k * 100'000;
+    f.node->onPose(pose(t, 0.05 * k, 0.0));
+    f.node->onObjects(objects(t - 30'000));  // 30 ms old: the frame time plus latency
+  }
+  const auto out = f.node->tick(t);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_OK);
+}
+
+TEST(PlannerNode, GivenTheRobotAtTheGoalThenGoalReachedAndACancelStops) {
+  Fixture f;
+  f.feed(kT0, 4.9, 0.0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_GOAL_REACHED);
+  EXPECT_FALSE(f.node->hasGoal());
+  f.node->onGoal(goal(kT0, -3.0, 0.0, 2));
+  nav_goal_t cancel = goal(kT0, 0, 0, 2);
+  cancel.action = nav_goal_t::ACTION_CANCEL;
+  f.node->onGoal(cancel);
+  out = f.node->tick(kT0 + 1000);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
+  EXPECT_EQ(out.plan->result, PlanResult::kCancelled);
+}
+
+TEST(PlannerNode, GivenTheSameInputsTwiceThenTheOutputsAreByteIdentical) {
+  auto run = [] {
+    Fixture f;
+    std::vector<uint8_t> bytes;
+    f.node->onGoal(goal(kT0, 5.0, 1.0));
+    for (int k = 0; k < 25; ++k) {
+      const int64_t t = kT0 + k * 20000;
+      Eigen::Vector3d p = f.node->currentTrajectory().valid() ? f.node->currentTrajectory().position(t)
+                                                             : Eigen::Vector3d::Zero();
+      f.feed(t, p.x(), p.y(), {object(5, 3.0, 2.0, 0.0, -0.6), object(6, 1.0, -2.0, 0.3, 0.5)});
+      const auto out = f.node->tick(t);
+      if (!out.trajectory) continue;
+      std::vector<uint8_t> buf(out.trajectory->getEncodedSize());
+      out.trajectory->encode(buf.data(), 0, int(buf.size()));
+      bytes.insert(bytes.end(), buf.begin(), buf.end());
+    }
+    return bytes;
+  };
+  const auto a = run();
+  const auto b = run();
+  EXPECT_GT(a.size(), 1000u);
+  EXPECT_EQ(a, b);
+}
+
+TEST(PlannerNode, GivenObstaclesClosingInFromAllSidesThenNothingPassesTheCheckAndItStops) {
+  Fixture f(false);
+  std::vector<tracked_object_t> ring;
+  for (int k = 0; k < 12; ++k) {
+    const double a = k * 2.0 * M_PI / 12.0;
+    ring.push_back(object(100 + k, 1.2 * std::cos(a), 1.2 * std::sin(a), -1.0 * std::cos(a), -1.0 * std::sin(a)));
+  }
+  f.feed(kT0, 0.0, 0.0, ring);
+  f.node->onGoal(goal(kT0, 6.0, 0.0));
+  const auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.plan);
+  EXPECT_EQ(out.plan->result, PlanResult::kStopNoFeasible);
+  ASSERT_TRUE(out.trajectory);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
+  EXPECT_NE(out.trajectory->message.find("no feasible"), std::string::npos) << out.trajectory->message;
+  EXPECT_GE(f.report.counter("escape_attempts"), 1);
+  // The stopping trajectory starts at rest here and stays put.
+  const auto& pp = f.node->currentTrajectory();
+  EXPECT_LT(pp.sampleRelative(pp.duration()).position.norm(), 1e-9);
+}
