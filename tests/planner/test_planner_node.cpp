@@ -307,6 +307,18 @@ TEST(PlannerNode, GivenObjectFramesOlderThanTheLatestPoseThenTheyAreUsedNotDropp
   EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_OK);
 }
 
+TEST(PlannerNode, GivenTheSameGoalRepeatedThenItDoesNotForceANewPlan) {
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  ASSERT_TRUE(f.node->tick(kT0).trajectory);
+  f.node->onPose(pose(kT0 + 20'000, 0.0, 0.0));
+  f.node->onGoal(goal(kT0 + 20'000, 5.0, 0.0));  // the sender repeats itself
+  EXPECT_FALSE(f.node->tick(kT0 + 20'000).trajectory) << "a repeated goal is not a new plan";
+  f.node->onGoal(goal(kT0 + 20'000, 6.0, 0.0));  // a different goal is
+  EXPECT_TRUE(f.node->tick(kT0 + 20'000).trajectory);
+}
+
 TEST(PlannerNode, GivenTheRobotAtTheGoalThenGoalReachedAndACancelStops) {
   Fixture f;
   f.feed(kT0, 4.9, 0.0);

@@ -172,6 +172,13 @@ void PlannerNode::onGoal(const nav_goal_t& msg) {
   }
   nav_goal_t g = msg;
   if (!(std::isfinite(g.tolerance) && g.tolerance > 0.0)) g.tolerance = params_.goal_default_tolerance;
+  // Senders repeat goals (the link may drop one): the same goal again is not a new plan.
+  if (goal_ && goal_->goal_id == g.goal_id && goal_->x == g.x && goal_->y == g.y &&
+      goal_->tolerance == g.tolerance && goal_->max_speed == g.max_speed &&
+      (goal_->yaw == g.yaw || (std::isnan(goal_->yaw) && std::isnan(g.yaw)))) {
+    report_.count("goals_repeated");
+    return;
+  }
   goal_ = g;
   goal_changed_ = true;
 }
