@@ -1,0 +1,71 @@
+#pragma once
+/// @file association.hpp
+/// Object-level association: the paper's eq. 1 cost with Hungarian matching and gates, and
+/// the FAPP baseline (greedy nearest centroid). Pure functions on small structs.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ucon/perception/params.hpp"
+
+namespace ucon {
+namespace perception {
+
+/// An axis-aligned box in the x-y plane (projection of a 3-D box), centre and full size [m].
+struct BoxXY {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  Eigen::Vector2d size = Eigen::Vector2d::Zero();  ///< side lengths, >= 0
+};
+
+/// Intersection over union of two x-y boxes, in [0, 1] (0 if either is empty).
+double iouXY(const BoxXY& a, const BoxXY& b);
+
+/// Generalised IoU of two x-y boxes, in (-1, 1]: IoU minus the share of their enclosing box
+/// covered by neither.
+double giouXY(const BoxXY& a, const BoxXY& b);
+
+/// A current detection c.
+struct DetectionView {
+  BoxXY box;
+};
+
+/// A track h, predicted to the current frame.
+struct TrackView {
+  BoxXY box;                       ///< predicted centre, track's size
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  ///< filtered velocity [m/s]
+  bool has_velocity = false;       ///< false for a track with a single measurement
+  Eigen::Vector2d last_center = Eigen::Vector2d::Zero();  ///< last measured centre [m]
+  double since_last = 0.0;         ///< time since that measurement [s], >= 0
+};
+
+/// Centre-distance gate of a track [m]: max_distance grown by distance_growth per second
+/// unseen (a coasting prediction drifts), capped at max_distance_cap.
+double distanceGate(const TrackView& h, const AssociationParams& p);
+
+/// Eq. 1: f(c,h) = mu1 (1 - u(c,h)) + mu2 (1 - v^_c . v^_h) + mu3 |s_c - s_h| / |s_h|, with u
+/// the generalised IoU of the x-y boxes (= IoU when one box contains the other; see .cpp).
+///
+/// The direction of c is the velocity the pair implies, (centre_c - last centre_h) / dt.
+/// Directions of slow objects are noise and a new track has none: the direction term is
+/// scaled by min(1, min(|v_c|, |v_h|) / direction_min_speed), and is 0 without a velocity.
+double associationCost(const DetectionView& c, const TrackView& h, const AssociationParams& p);
+
+/// Matching result: for each detection the matched track index, or -1; and the reverse.
+struct Matching {
+  std::vector<int> detection_to_track;
+  std::vector<int> track_to_detection;
+};
+
+/// UCON: Hungarian matching on eq. 1; pairs above cost_gate or with centres farther than
+/// distanceGate() are forbidden.
+Matching associateObjects(const std::vector<DetectionView>& detections,
+                          const std::vector<TrackView>& tracks, const AssociationParams& p);
+
+/// FAPP baseline: repeatedly take the closest remaining (track, detection) centre pair
+/// within fapp_gate [m] (ties broken by lower track, then detection index).
+Matching associateNearest(const std::vector<DetectionView>& detections,
+                          const std::vector<TrackView>& tracks, const AssociationParams& p);
+
+}  // namespace perception
+}  // namespace ucon

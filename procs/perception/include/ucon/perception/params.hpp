@@ -1,0 +1,111 @@
+#pragma once
+/// @file params.hpp
+/// Parameters of the perception node (deploy/config/perception.yaml maps onto them 1:1).
+
+#include <string>
+#include <vector>
+
+#include "ucon/kalman/constant_velocity_kalman.hpp"
+
+namespace ucon {
+class ConfigReader;
+
+namespace perception {
+
+/// Stage 1: world frame, crop, voxel down-sampling.
+struct PreprocessParams {
+  double min_range = 0.5;    ///< horizontal distance from the robot centre below which points are the robot's own body [m], >= 0
+  double max_range = 15.0;   ///< horizontal crop range [m], > min_range
+  double min_height = 0.15;  ///< world z below this is ground [m]
+  double max_height = 2.2;   ///< world z above this is ceiling [m], > min_height
+  int accumulate_frames = 2;  ///< frames merged before down-sampling (a 50 Hz Mid-360 frame is sparse), [1, 10]
+  double voxel_size = 0.08;  ///< voxel edge for down-sampling [m], > 0 (0.005..1)
+  std::vector<double> sensor_origin{0.0, 0.0, 0.5};  ///< sensor origin in the base frame [m] (for free-space clearing)
+  void read(ConfigReader& r);
+};
+
+/// Stage 2: clustering and the FAPP-style motion test.
+struct SegmentationParams {
+  double cluster_tolerance = 0.35;  ///< Euclidean clustering distance [m], > 0
+  int min_cluster_points = 4;       ///< smaller clusters are noise (static output), >= 1
+  int max_cluster_points = 4000;    ///< larger clusters are static structure, >= min
+  double max_object_size = 1.6;     ///< a cluster whose x-y box side exceeds this is static [m]
+  double min_object_height = 0.3;   ///< a cluster lower than this (z extent) is not an object [m]
+  double history_min_age = 0.5;     ///< reference frames are at least this old [s], >= 0
+  double history_max_age = 1.0;     ///< ... and at most this old [s], > history_min_age
+  double history_chunk = 0.1;       ///< history frames are merged and indexed in chunks this long [s], > 0
+  double motion_distance = 0.1;     ///< a point farther than this from every reference point moved [m]
+  double motion_distance_per_m = 0.01;  ///< ... plus this much per metre of range (scan sparsity grows with range) [m/m], >= 0
+  double motion_ratio = 0.3;        ///< share of moved points that makes a cluster moving, (0, 1]
+  double free_space_bin_deg = 1.0;  ///< angular bin of the free-space check [deg], (0.1, 10]
+  double free_space_margin = 0.3;   ///< a moved point also needs the reference to have seen this far past it along its ray [m]
+  double track_support_distance = 0.8;  ///< a cluster this close to a live track's prediction is dynamic [m]
+  void read(ConfigReader& r);
+};
+
+/// Stage 3: object-level association (eq. 1) and the FAPP baseline.
+struct AssociationParams {
+  std::vector<double> mu{0.3, 0.3, 0.4};  ///< weights of IoU, direction and size terms of eq. 1, each >= 0
+  double cost_gate = 0.9;            ///< pairs with f(c,h) above this are forbidden
+  double max_distance = 1.0;         ///< pairs whose centres are farther apart are forbidden [m]
+  double distance_growth = 1.0;      ///< ... plus this per second the track has not been seen [m/s]
+  double max_distance_cap = 2.5;     ///< upper bound of the grown distance gate [m]
+  double direction_min_speed = 0.3;  ///< below this speed the direction term fades out [m/s], > 0
+  double fapp_gate = 0.8;            ///< FAPP baseline: greedy nearest-centroid gate [m]
+  void read(ConfigReader& r);
+};
+
+/// Stage 4: point-level historical re-association (Sec. III-B, appendix algorithm).
+struct ReassociationParams {
+  bool enabled = true;       ///< off = object-level association only (ablation)
+  double d0 = 0.6;           ///< point match distance [m], > 0
+  double gamma = 0.35;       ///< required share of matched history points, (0, 1)
+  int max_history_points = 64;  ///< history points kept per track (evenly thinned), >= 1
+  bool split_matched = false;  ///< may take points of clusters matched at object level (splits merges); false = the paper's P
+  double max_shift = 0.4;    ///< recovered points must be centred this close to the prediction [m] (not the occluder in front)
+  int max_consecutive = 25;  ///< frames in a row a track may live on re-association alone, >= 1
+  void read(ConfigReader& r);
+};
+
+/// Stage 5: track management.
+struct TrackParams {
+  int confirm_hits = 4;             ///< measurements needed to confirm a tentative track, >= 1
+  double confirm_min_speed = 0.15;  ///< and its filtered speed must reach this [m/s], >= 0
+  double confirm_max_speed = 2.5;   ///< ... but not exceed this (a jumping cluster is not a person) [m/s]
+  double confirm_min_distance = 0.3;  ///< and it must have moved this far from where it was first seen [m], >= 0
+  int confirm_moving_hits = 3;      ///< and this many of its clusters must have passed the motion test, >= 0
+  double max_stationary = 3.0;      ///< a track whose clusters fail the motion test, or that stays slower than confirm_min_speed, this long is deleted [s]
+  double new_track_separation = 0.7;  ///< no new track from a cluster this close to an existing track [m]
+  double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
+  double reid_margin = 0.5;         ///< [m]
+  double reid_window = 3.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
+  double merge_margin = 0.3;        ///< a matched cluster larger than the track's box by this is a merge [m]
+  double tentative_max_age = 1.0;   ///< a tentative track older than this is deleted [s]
+  int tentative_max_misses = 2;     ///< consecutive misses that delete a tentative track, >= 1
+  double max_coast = 3.0;           ///< a track unseen for this long is deleted [s], > 0
+  double coast_velocity_decay = 1.0;  ///< while unseen, the velocity decays with this time constant [s] (people stop and turn); 0 = off
+  double free_bin_deg = 3.0;        ///< angular bins of the "seen through" check of unseen tracks [deg], [0.5, 20]
+  double free_margin = 0.5;         ///< a track is seen through when the nearest return in its bin is this far behind it [m]
+  int free_frames = 3;              ///< an unseen track seen through this many frames in a row is deleted, >= 1
+  double velocity_baseline = 0.2;   ///< velocity measurement differences positions this far apart [s], > 0
+  double size_smoothing = 0.3;      ///< weight of a new box size in the track's size, (0, 1]
+  void read(ConfigReader& r);
+};
+
+/// All of the node.
+struct PerceptionParams {
+  std::string association = "ucon";  ///< "ucon" (eq. 1 + Hungarian + re-association) or "fapp"
+  double pose_max_gap = 0.1;          ///< a frame farther than this from any pose has a stale pose [s], > 0
+  double frame_timeout = 0.2;         ///< no frame for this long (message time) -> outputs invalid [s]
+  PreprocessParams preprocess;
+  SegmentationParams segmentation;
+  AssociationParams object_association;
+  ReassociationParams reassociation;
+  TrackParams tracks;
+  kalman::KalmanParams kalman;
+  void read(ConfigReader& r);
+  bool useUcon() const { return association == "ucon"; }
+};
+
+}  // namespace perception
+}  // namespace ucon

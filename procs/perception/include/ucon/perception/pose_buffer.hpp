@@ -1,0 +1,47 @@
+#pragma once
+/// @file pose_buffer.hpp
+/// Recent robot poses, interpolated at a LiDAR frame's time.
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "ucon/robot_pose_t.hpp"
+
+namespace ucon {
+namespace perception {
+
+/// Keeps poses over a window of message time and interpolates between them.
+class PoseBuffer {
+ public:
+  enum class AddResult { kAdded, kInvalid, kNonFinite, kOutOfOrder };
+
+  /// `window_s` [s]: poses older than the newest minus this are forgotten.
+  explicit PoseBuffer(double window_s = 2.0) : window_us_(static_cast<int64_t>(window_s * 1e6)) {}
+
+  /// Adds a pose; rejects invalid (valid == false or utime <= 0), non-finite or
+  /// not-newer poses.
+  AddResult add(const robot_pose_t& pose);
+
+  /// Body-to-world transform at `utime` [us]: linear interpolation of position and slerp of
+  /// orientation between the two poses around it. Outside the buffered span the nearest pose
+  /// is used if it is within `max_gap_s` [s]; otherwise (or when empty) nullopt.
+  std::optional<Eigen::Isometry3d> at(int64_t utime, double max_gap_s) const;
+
+  bool empty() const { return poses_.empty(); }
+  int64_t newestUtime() const { return poses_.empty() ? 0 : poses_.back().utime; }
+
+ private:
+  struct Stamped {
+    int64_t utime;
+    Eigen::Vector3d p;
+    Eigen::Quaterniond q;
+  };
+  std::deque<Stamped> poses_;
+  int64_t window_us_;
+};
+
+}  // namespace perception
+}  // namespace ucon

@@ -1,0 +1,109 @@
+#include "ucon/perception/association.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include "ucon/mot/hungarian.hpp"
+
+namespace ucon {
+namespace perception {
+
+double iouXY(const BoxXY& a, const BoxXY& b) {
+  if (!(a.size.x() > 0 && a.size.y() > 0 && b.size.x() > 0 && b.size.y() > 0)) return 0.0;
+  const Eigen::Vector2d amin = a.center - 0.5 * a.size, amax = a.center + 0.5 * a.size;
+  const Eigen::Vector2d bmin = b.center - 0.5 * b.size, bmax = b.center + 0.5 * b.size;
+  const double ix = std::min(amax.x(), bmax.x()) - std::max(amin.x(), bmin.x());
+  const double iy = std::min(amax.y(), bmax.y()) - std::max(amin.y(), bmin.y());
+  if (!(ix > 0 && iy > 0)) return 0.0;
+  const double inter = ix * iy;
+  return inter / (a.size.prod() + b.size.prod() - inter);
+}
+
+double giouXY(const BoxXY& a, const BoxXY& b) {
+  const double iou = iouXY(a, b);
+  const Eigen::Vector2d lo = (a.center - 0.5 * a.size).cwiseMin(b.center - 0.5 * b.size);
+  const Eigen::Vector2d hi = (a.center + 0.5 * a.size).cwiseMax(b.center + 0.5 * b.size);
+  const double hull = (hi - lo).prod();
+  if (!(hull > 0.0)) return iou;
+  const double inter = iou > 0.0 ? iou * (a.size.prod() + b.size.prod()) / (1.0 + iou) : 0.0;
+  const double uni = a.size.prod() + b.size.prod() - inter;
+  return iou - (hull - uni) / hull;
+}
+
+double associationCost(const DetectionView& c, const TrackView& h, const AssociationParams& p) {
+  // Term 1: x-y overlap of c's box and h's box at its predicted position. u is the
+  // generalised IoU (equal to the IoU minus the share of the enclosing box not covered by
+  // either box): for overlapping boxes it behaves like the paper's IoU, and once the boxes
+  // stop overlapping (a coasting track, a small fast object) it keeps ranking candidates by
+  // how far apart they are instead of scoring them all 1.
+  const double iou = giouXY(c.box, h.box);
+  // Term 2: motion direction agreement, faded out for slow or new objects (see header).
+  double dir = 0.0;
+  if (h.has_velocity && h.since_last > 1e-6) {
+    const Eigen::Vector2d vc = (c.box.center - h.last_center) / h.since_last;
+    const double sc = vc.norm(), sh = h.velocity.norm();
+    if (sc > 1e-9 && sh > 1e-9) {
+      const double w = std::min(1.0, std::min(sc, sh) / p.direction_min_speed);
+      const double cosang = std::clamp(vc.dot(h.velocity) / (sc * sh), -1.0, 1.0);
+      dir = w * (1.0 - cosang);
+    }
+  }
+  // Term 3: relative size change; |s_h| floored so that a degenerate track box stays finite.
+  const double sh = std::max(h.box.size.norm(), 0.05);
+  const double size = (c.box.size - h.box.size).norm() / sh;
+  return p.mu[0] * (1.0 - iou) + p.mu[1] * dir + p.mu[2] * size;
+}
+
+double distanceGate(const TrackView& h, const AssociationParams& p) {
+  return std::min(p.max_distance_cap, p.max_distance + p.distance_growth * std::max(0.0, h.since_last));
+}
+
+Matching associateObjects(const std::vector<DetectionView>& detections,
+                          const std::vector<TrackView>& tracks, const AssociationParams& p) {
+  Matching m;
+  m.detection_to_track.assign(detections.size(), -1);
+  m.track_to_detection.assign(tracks.size(), -1);
+  if (detections.empty() || tracks.empty()) return m;
+  CostMatrix cost(static_cast<int>(detections.size()), static_cast<int>(tracks.size()));
+  for (int i = 0; i < cost.rows; ++i) {
+    for (int j = 0; j < cost.cols; ++j) {
+      const double d = (detections[i].box.center - tracks[j].box.center).norm();
+      if (!(d <= distanceGate(tracks[j], p))) continue;
+      const double f = associationCost(detections[i], tracks[j], p);
+      if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f;
+    }
+  }
+  const std::vector<int> a = solveAssignment(cost);
+  for (int i = 0; i < cost.rows; ++i) {
+    if (a[i] < 0) continue;
+    m.detection_to_track[i] = a[i];
+    m.track_to_detection[a[i]] = i;
+  }
+  return m;
+}
+
+Matching associateNearest(const std::vector<DetectionView>& detections,
+                          const std::vector<TrackView>& tracks, const AssociationParams& p) {
+  Matching m;
+  m.detection_to_track.assign(detections.size(), -1);
+  m.track_to_detection.assign(tracks.size(), -1);
+  std::vector<std::tuple<double, int, int>> pairs;
+  for (int j = 0; j < static_cast<int>(tracks.size()); ++j) {
+    for (int i = 0; i < static_cast<int>(detections.size()); ++i) {
+      const double d = (detections[i].box.center - tracks[j].box.center).norm();
+      if (d <= p.fapp_gate) pairs.emplace_back(d, j, i);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  for (const auto& [d, j, i] : pairs) {
+    if (m.track_to_detection[j] >= 0 || m.detection_to_track[i] >= 0) continue;
+    m.track_to_detection[j] = i;
+    m.detection_to_track[i] = j;
+  }
+  return m;
+}
+
+}  // namespace perception
+}  // namespace ucon

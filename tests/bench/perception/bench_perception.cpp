@@ -1,0 +1,367 @@
+// ucon-bench-perception: perception stability on the `pedestrians` scenario (paper Sec. V-B,
+// issue 4). The simulator's Mid-360 packets go through the driver's parser and frame assembly
+// into two perception nodes in the same run — UCON and the FAPP-style baseline — and
+// CLEAR-MOT compares their tracks with the simulator's ground truth. Prints a table, writes
+// JSON, and reports per-frame latency (median, p99) of each node.
+//
+//   ucon-bench-perception [--json out.json] [--seeds N] [--seed-base B] [--quick]
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ucon/config.hpp"
+#include "ucon/lidar_driver/driver_params.hpp"
+#include "ucon/lidar_driver/lidar_driver_node.hpp"
+#include "ucon/mot/clear_mot.hpp"
+#include "ucon/mot/runtime_frames.hpp"
+#include "ucon/perception/perception_node.hpp"
+#include "ucon/runtime/config_file.hpp"
+#include "ucon/simulator/scenario_loader.hpp"
+#include "ucon/simulator/simulator.hpp"
+
+namespace {
+
+struct MethodResult {
+  std::string method;
+  int64_t seed = 0;
+  ucon::mot::ClearMotSummary mot;
+  double latency_median_ms = NAN;
+  double latency_p99_ms = NAN;
+  double points_per_frame = 0.0;  ///< raw points per frame given to the node
+  int64_t frames = 0;
+  int64_t invalid_frames = 0;
+  int64_t reassociations = 0;
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const auto hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+struct Method {
+  std::string name;
+  std::unique_ptr<ucon::perception::PerceptionNode> node;
+  ucon::mot::ClearMotAccumulator acc;
+  std::vector<double> latency_ms;
+  int64_t frames = 0, invalid = 0;
+  double points = 0.0;
+  std::map<int64_t, int64_t> last_match;  ///< trace: ground-truth id -> last matched track id
+};
+
+template <class P>
+P loadOrDie(const std::string& path, const char* what) {
+  auto p = ucon::runtime::loadConfigFile<P>("bench-perception", path);
+  if (!p) {
+    std::fprintf(stderr, "bench-perception: cannot load %s config '%s'\n", what, path.c_str());
+    std::exit(2);
+  }
+  return *p;
+}
+
+std::string num(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[64];
+  std::snprintf(b, sizeof(b), "%.6g", v);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Perception stability benchmark: UCON vs FAPP-style association on `pedestrians`."};
+  std::string json_path, source_dir = UCON_SOURCE_DIR, scenario = "pedestrians";
+  int seeds = 3;
+  int64_t seed_base = 1;
+  bool quick = false;
+  double duration = 0.0, threshold = 1.0;
+  app.add_option("--json", json_path, "write the results as JSON to this file");
+  app.add_option("--seeds", seeds, "number of worlds (seeds B .. B+N-1)")->check(CLI::Range(1, 1000));
+  app.add_option("--seed-base", seed_base, "first seed B");
+  app.add_flag("--quick", quick, "one short seed (20 s) with sanity checks: the ctest mode");
+  app.add_option("--duration", duration, "simulated seconds per run (default: the scenario's, 243 s)");
+  app.add_option("--threshold", threshold, "CLEAR-MOT x-y match distance [m]")->check(CLI::PositiveNumber);
+  app.add_option("--scenario", scenario, "scenario name or file");
+  app.add_option("--source-dir", source_dir, "repository root (configs and scenarios)");
+  std::string trace_path;
+  bool all_gt = false;
+  int frame_rate = 50;
+  app.add_option("--frame-rate", frame_rate, "LiDAR frame rate [Hz]: 50 (default), 20 or 10")
+      ->check(CLI::IsMember({10, 20, 50}));
+  std::vector<std::string> method_names{"ucon", "fapp"};
+  app.add_option("--methods", method_names, "methods to run: ucon, fapp, ucon-noreassoc (ablation)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"ucon", "fapp", "ucon-noreassoc"}));
+  int min_visible = 3;
+  app.add_flag("--all-gt", all_gt, "score every ground-truth object, also those the sensor cannot see");
+  app.add_option("--min-visible-points", min_visible,
+                 "a ground-truth object with fewer LiDAR returns in a frame is not scored")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--trace", trace_path, "write every FP, FN and identity switch to this text file");
+  CLI11_PARSE(app, argc, argv);
+  FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
+  if (quick) {
+    seeds = 1;
+    if (duration <= 0.0) duration = 20.0;
+  }
+
+  const std::string cfg = source_dir + "/deploy/config/";
+  auto sim_params = loadOrDie<ucon::simulator::SimulatorParams>(cfg + "simulator.yaml", "simulator");
+  auto drv_params = loadOrDie<ucon::lidar_driver::DriverParams>(cfg + "lidar_driver.yaml", "driver");
+  auto perc_params = loadOrDie<ucon::perception::PerceptionParams>(cfg + "perception.yaml", "perception");
+  if (frame_rate != 50) {
+    // 10/20 Hz frames hold 5/2.5 times the points: no accumulation needed.
+    sim_params.frame_rate_hz = frame_rate;
+    drv_params.frame.rate_hz = frame_rate;
+    perc_params.preprocess.accumulate_frames = 1;
+  }
+
+  std::vector<MethodResult> results;
+  for (int s = 0; s < seeds; ++s) {
+    const int64_t seed = seed_base + s;
+    std::string err;
+    auto sc = ucon::simulator::loadScenario(scenario, source_dir + "/deploy/scenarios", seed,
+                                            ucon::runtime::readTextFile, &err);
+    if (!sc) {
+      std::fprintf(stderr, "bench-perception: %s\n", err.c_str());
+      return 2;
+    }
+    const double run_s = duration > 0.0 ? duration : sc->duration_s;
+    ucon::simulator::SimOptions so;
+    so.make_packets = true;
+    so.make_frames = false;
+    ucon::simulator::Simulator sim(sim_params, *sc, so);
+    ucon::lidar_driver::LidarDriverNode driver(drv_params);
+
+    std::vector<Method> methods;
+    for (const std::string& m : method_names) {
+      auto p = perc_params;
+      p.association = m == "fapp" ? "fapp" : "ucon";
+      if (m == "ucon-noreassoc") p.reassociation.enabled = false;
+      Method mm;
+      mm.name = m;
+      mm.node = std::make_unique<ucon::perception::PerceptionNode>(p);
+      methods.push_back(std::move(mm));
+    }
+    ucon::mot::RuntimeEvalOptions eval;
+    eval.threshold_m = threshold;
+    eval.max_range_m = perc_params.preprocess.max_range;
+    std::map<int64_t, ucon::sim_ground_truth_t> gts;  // by utime
+
+    ucon::simulator::SimOutputs out;
+    ucon::lidar_driver::DriverOutputs dout;
+    const int64_t step_us = static_cast<int64_t>(1e6 / sim_params.frame_rate_hz);
+    const int64_t end_utime = sim.utime() + static_cast<int64_t>(run_s * 1e6);
+    auto handle_cloud = [&](const ucon::point_cloud_t& cloud) {
+      // Which ground-truth objects the sensor saw in this frame (>= min_visible_points returns
+      // on the body): the others are not scored (KITTI/TrackEval "don't care" objects).
+      std::map<int64_t, int> hits;
+      if (auto g = gts.find(cloud.utime); g != gts.end()) {
+        const double c = std::cos(g->second.robot_yaw), sn = std::sin(g->second.robot_yaw);
+        for (int i = 0; i < cloud.num_points; ++i) {
+          if (cloud.z[i] < 0.1f) continue;
+          const double wx = g->second.robot_x + c * cloud.x[i] - sn * cloud.y[i];
+          const double wy = g->second.robot_y + sn * cloud.x[i] + c * cloud.y[i];
+          for (const auto& o : g->second.objects)
+            if (std::hypot(wx - o.x, wy - o.y) <= o.radius + 0.15 && cloud.z[i] <= o.height + 0.1) ++hits[o.id];
+        }
+      }
+      for (auto& m : methods) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto o = m.node->onPoints(cloud);
+        const auto t1 = std::chrono::steady_clock::now();
+        if (!o.objects) continue;
+        ++m.frames;
+        m.points += cloud.num_points;
+        m.latency_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        if (!o.objects->valid) ++m.invalid;
+        auto g = gts.find(o.objects->utime);
+        if (g == gts.end()) {
+          // Frames start on ground-truth instants; otherwise take the nearest earlier one.
+          g = gts.upper_bound(o.objects->utime);
+          if (g == gts.begin()) continue;
+          --g;
+        }
+        const auto gt_now = ucon::mot::groundTruthAt(g->second, o.objects->utime, eval);
+        std::vector<char> hidden(gt_now.size(), 0);
+        for (std::size_t k = 0; k < gt_now.size(); ++k) hidden[k] = (all_gt || hits[gt_now[k].id] >= min_visible) ? 0 : 1;
+        const auto ev = m.acc.updateXY(gt_now, ucon::mot::hypothesesOf(*o.objects, eval), eval.threshold_m,
+                                       &hidden);
+        if (trace) {
+          for (int64_t id : ev.false_positives)
+            for (const auto& t : o.objects->objects)
+              if (t.id == id)
+                std::fprintf(trace, "%s fp %.2f id %lld x %.2f y %.2f v %.2f age %d pts %d assoc %d\n",
+                             m.name.c_str(), sim.simTime(),
+                             static_cast<long long>(id), t.x, t.y, std::hypot(t.vx, t.vy), t.age_frames,
+                             t.num_points, t.last_association);
+          for (const auto& sw : ev.switches) {
+            const int64_t old_id = m.last_match[sw.first];
+            int old_state = 0;
+            for (const auto& t : o.objects->objects)
+              if (t.id == old_id) old_state = t.state;
+            std::fprintf(trace, "%s idsw %.2f gt %lld -> %lld (was %lld, now %s)\n", m.name.c_str(), sim.simTime(),
+                         static_cast<long long>(sw.first), static_cast<long long>(sw.second),
+                         static_cast<long long>(old_id), old_state == 0 ? "gone" : std::to_string(old_state).c_str());
+          }
+          for (const auto& mt : ev.matches) m.last_match[mt.first] = mt.second;
+          for (int64_t id : ev.misses) {
+            // The detection nearest to the missed object: why was it not a track?
+            const auto gtp = ucon::mot::groundTruthAt(g->second, o.objects->utime, eval);
+            double gx = 0, gy = 0;
+            for (const auto& q : gtp)
+              if (q.id == id) gx = q.x, gy = q.y;
+            const ucon::perception::Detection* best = nullptr;
+            double bd = 1e9;
+            for (const auto& d : m.node->lastDetections()) {
+              const double dd = std::hypot(d.box.center.x() - gx, d.box.center.y() - gy);
+              if (dd < bd) bd = dd, best = &d;
+            }
+            std::fprintf(trace, "%s fn %.2f gt %lld at %.2f %.2f", m.name.c_str(), sim.simTime(),
+                         static_cast<long long>(id), gx, gy);
+            if (best)
+              std::fprintf(trace, " det %.2f m pts %zu size %.2f %.2f z %.2f-%.2f ok %d moving %d supp %d",
+                           bd, best->indices.size(), best->box.size.x(), best->box.size.y(), best->min_z,
+                           best->max_z, best->size_ok, best->moving, best->supported);
+            std::fprintf(trace, "\n");
+          }
+        }
+      }
+    };
+    while (sim.utime() < end_utime) {
+      out.clear();
+      sim.advanceTo(sim.utime() + step_us, out);
+      for (auto& g : out.ground_truth) gts[g.utime] = g;
+      for (const auto& pose : out.poses)
+        for (auto& m : methods) m.node->onPose(pose);
+      for (const auto& d : out.point_packets) {
+        driver.onDatagram(d.bytes.data(), d.bytes.size(), dout);
+        for (const auto& c : dout.clouds) handle_cloud(c);
+      }
+      while (!gts.empty() && gts.begin()->first < sim.utime() - 2'000'000) gts.erase(gts.begin());
+    }
+    for (auto& m : methods) {
+      MethodResult r;
+      r.method = m.name;
+      r.seed = seed;
+      r.mot = m.acc.summary();
+      r.latency_median_ms = percentile(m.latency_ms, 0.5);
+      r.latency_p99_ms = percentile(m.latency_ms, 0.99);
+      r.points_per_frame = m.frames ? m.points / static_cast<double>(m.frames) : 0.0;
+      r.frames = m.frames;
+      r.invalid_frames = m.invalid;
+      r.reassociations = m.node->status().counter("reassociations");
+      results.push_back(r);
+      {
+        // Per-stage medians of the node's own timings (PERCEPTION_STATUS), for the record.
+        const auto st = m.node->status().build(0, 0);
+        std::string stages;
+        for (int i = 0; i < st.num_timings; ++i) {
+          char b[64];
+          std::snprintf(b, sizeof(b), " %s %.3f/%.1f", st.timing_names[i].c_str(), st.timing_median_ms[i],
+                        st.timing_max_ms[i]);
+          stages += b;
+        }
+        std::fprintf(stderr, "seed %lld %s stage median/max [ms]:%s\n", static_cast<long long>(seed),
+                     m.name.c_str(), stages.c_str());
+      }
+      std::fprintf(stderr, "seed %lld %s: MOTA %.2f %% IDSW %lld (%lld frames, %.1f s simulated)\n",
+                   static_cast<long long>(seed), m.name.c_str(), 100.0 * r.mot.mota,
+                   static_cast<long long>(r.mot.num_switches), static_cast<long long>(r.frames), run_s);
+    }
+  }
+
+  // Table.
+  std::printf("\nPerception stability: scenario %s, %d Hz frames, %d seed(s) from %lld, CLEAR-MOT threshold %.2f m, %s\n",
+              scenario.c_str(), frame_rate, seeds, static_cast<long long>(seed_base), threshold,
+              all_gt ? "every ground-truth object scored"
+                     : ("objects with < " + std::to_string(min_visible) + " LiDAR returns not scored").c_str());
+  std::printf("%-6s %5s %8s %6s %8s %8s %9s %8s %8s %10s %8s %7s\n", "method", "seed", "MOTA%", "IDSW",
+              "FN%", "FP%", "mismatch%", "MOTP_m", "lat_med", "lat_p99_ms", "pts/frm", "reassoc");
+  for (const auto& r : results) {
+    std::printf("%-6s %5lld %8.2f %6lld %8.2f %8.2f %9.3f %8.3f %8.3f %10.3f %8.0f %7lld\n", r.method.c_str(),
+                static_cast<long long>(r.seed), 100 * r.mot.mota, static_cast<long long>(r.mot.num_switches),
+                100 * r.mot.fn_rate, 100 * r.mot.fp_rate, 100 * r.mot.mismatch_rate, r.mot.motp,
+                r.latency_median_ms, r.latency_p99_ms, r.points_per_frame, static_cast<long long>(r.reassociations));
+  }
+  // Medians over seeds per method.
+  bool targets_met = true;
+  std::map<std::string, std::vector<const MethodResult*>> by;
+  for (const auto& r : results) by[r.method].push_back(&r);
+  std::printf("\nmedian over seeds:\n");
+  std::map<std::string, std::pair<double, double>> med;  // mota, idsw
+  for (auto& [m, rs] : by) {
+    std::vector<double> mota, idsw, lat, p99;
+    for (auto* r : rs) {
+      mota.push_back(r->mot.mota);
+      idsw.push_back(static_cast<double>(r->mot.num_switches));
+      lat.push_back(r->latency_median_ms);
+      p99.push_back(r->latency_p99_ms);
+    }
+    med[m] = {percentile(mota, 0.5), percentile(idsw, 0.5)};
+    std::printf("  %-5s MOTA %.2f %%  IDSW %.1f  latency median %.3f ms  p99 %.3f ms\n", m.c_str(),
+                100 * med[m].first, med[m].second, percentile(lat, 0.5), percentile(p99, 0.5));
+  }
+  if (!quick) {
+    const double scale = duration > 0.0 ? duration / 243.0 : 1.0;
+    for (const auto* r : by["ucon"]) {
+      const bool latency_ok = frame_rate == 50 ? (r->latency_median_ms <= 5.0 && r->latency_p99_ms <= 10.0)
+                                               : r->latency_median_ms <= 15.0;
+      const bool ok = r->mot.mota >= 0.90 && r->mot.num_switches <= std::ceil(3 * scale) && latency_ok;
+      targets_met = targets_met && ok;
+    }
+    targets_met = targets_met && med["ucon"].first > med["fapp"].first && med["ucon"].second < med["fapp"].second;
+    std::printf("targets (UCON MOTA >= 90 %%, IDSW <= 3 per 243 s, better than fapp on both, latency "
+                "median <= 5 ms and p99 <= 10 ms at 50 Hz, median <= 15 ms at 10 Hz): %s\n",
+                targets_met ? "met" : "NOT met");
+  }
+
+  if (!json_path.empty()) {
+    std::ofstream js(json_path);
+    js << "{\"scenario\": \"" << scenario << "\", \"threshold_m\": " << num(threshold)
+       << ", \"scored\": \"" << (all_gt ? "all" : "visible") << "\", \"min_visible_points\": " << min_visible
+       << ", \"frame_rate_hz\": " << frame_rate
+       << ", \"duration_s\": " << num(duration > 0 ? duration : 243.0) << ", \"results\": [";
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      const auto& r = results[i];
+      js << (i ? ", " : "") << "{\"method\": \"" << r.method << "\", \"seed\": " << r.seed
+         << ", \"mota\": " << num(r.mot.mota) << ", \"idsw\": " << r.mot.num_switches
+         << ", \"fn_rate\": " << num(r.mot.fn_rate) << ", \"fp_rate\": " << num(r.mot.fp_rate)
+         << ", \"mismatch_rate\": " << num(r.mot.mismatch_rate) << ", \"motp\": " << num(r.mot.motp)
+         << ", \"num_objects\": " << r.mot.num_objects << ", \"num_ignored\": " << r.mot.num_ignored
+         << ", \"frames\": " << r.frames
+         << ", \"invalid_frames\": " << r.invalid_frames << ", \"reassociations\": " << r.reassociations
+         << ", \"latency_ms_median\": " << num(r.latency_median_ms)
+         << ", \"latency_ms_p99\": " << num(r.latency_p99_ms)
+         << ", \"points_per_frame\": " << num(r.points_per_frame) << "}";
+    }
+    js << "]}\n";
+    if (!js) {
+      std::fprintf(stderr, "bench-perception: cannot write '%s'\n", json_path.c_str());
+      return 2;
+    }
+  }
+
+  if (quick) {
+    // Sanity for ctest: both methods produced valid frames and UCON tracks the pedestrians.
+    bool ok = true;
+    for (const auto& r : results) {
+      ok = ok && r.frames > 0.9 * duration * sim_params.frame_rate_hz && r.invalid_frames <= 2;
+      if (r.method == "ucon") ok = ok && r.mot.mota >= 0.6 && r.mot.num_objects > 0;
+    }
+    std::printf("quick sanity: %s\n", ok ? "ok" : "FAILED");
+    return ok ? 0 : 1;
+  }
+  return 0;
+}

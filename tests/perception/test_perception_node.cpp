@@ -1,0 +1,351 @@
+// The perception node on synthetic frames: tracking with stable identities and covariance,
+// re-association through a merge, bad input, validity and determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "synthetic_scene.hpp"
+#include "ucon/perception/perception_node.hpp"
+#include "ucon/tracked_object_t.hpp"
+
+using ucon::perception::PerceptionNode;
+using ucon::perception::PerceptionParams;
+using TO = ucon::tracked_object_t;
+
+namespace {
+
+PerceptionParams testParams() {
+  PerceptionParams p;  // defaults = deploy/config/perception.yaml
+  return p;
+}
+
+const TO* nearestConfirmed(const ucon::tracked_objects_t& o, double x, double y, double gate = 0.6) {
+  const TO* best = nullptr;
+  double bd = gate;
+  for (const auto& t : o.objects) {
+    if (t.state != TO::STATE_CONFIRMED && t.state != TO::STATE_COASTING) continue;
+    const double d = std::hypot(t.x - x, t.y - y);
+    if (d < bd) {
+      bd = d;
+      best = &t;
+    }
+  }
+  return best;
+}
+
+struct RunResult {
+  std::vector<ucon::tracked_objects_t> objects;
+  std::vector<ucon::static_points_t> statics;
+};
+
+// Runs frames 0..n-1; `people_at(k)` gives the visible people of frame k.
+template <class PeopleAt>
+RunResult run(PerceptionNode& node, int n, PeopleAt people_at, const std::vector<scene::Wall>& walls) {
+  scene::Generator gen;
+  RunResult r;
+  for (int k = 0; k < n; ++k) {
+    node.onPose(scene::pose(scene::frameTime(k)));
+    auto out = node.onPoints(gen.frame(k, people_at(k), walls));
+    if (out.objects) r.objects.push_back(*out.objects);
+    if (out.static_points) r.statics.push_back(*out.static_points);
+  }
+  return r;
+}
+
+const std::vector<scene::Wall> kWalls{{-3, 4, 6, 4}, {7, -3, 7, 3}};
+
+}  // namespace
+
+TEST(PerceptionNode, GivenTwoWalkingPeopleWhenFramesArriveThenBothAreConfirmedWithStableIdsAndVelocity) {
+  PerceptionNode node(testParams());
+  const std::vector<scene::Person> people{{1.0, -2.0, 1.0, 0.0}, {6.0, 2.5, 0.0, -0.8}};
+  const RunResult r = run(node, 180, [&](int) { return people; }, kWalls);
+  ASSERT_EQ(r.objects.size(), 180u);
+  std::set<int64_t> ids_a, ids_b;
+  for (int k = 80; k < 180; ++k) {
+    const auto& o = r.objects[k];
+    EXPECT_TRUE(o.valid);
+    const double t = (k)*0.02;
+    const TO* a = nearestConfirmed(o, people[0].x(t), people[0].y(t));
+    const TO* b = nearestConfirmed(o, people[1].x(t), people[1].y(t));
+    ASSERT_TRUE(a && b) << "frame " << k;
+    ids_a.insert(a->id);
+    ids_b.insert(b->id);
+    if (k == 179) {
+      EXPECT_NEAR(a->vx, 1.0, 0.15);
+      EXPECT_NEAR(a->vy, 0.0, 0.15);
+      EXPECT_NEAR(b->vx, 0.0, 0.15);
+      EXPECT_NEAR(b->vy, -0.8, 0.15);
+      ASSERT_EQ(a->cov_size, 36);
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j) EXPECT_DOUBLE_EQ(a->cov[i * 6 + j], a->cov[j * 6 + i]);
+      EXPECT_GT(a->cov[0], 0.0);
+    }
+  }
+  EXPECT_EQ(ids_a.size(), 1u);
+  EXPECT_EQ(ids_b.size(), 1u);
+  EXPECT_NE(*ids_a.begin(), *ids_b.begin());
+  // Walls are never confirmed objects.
+  for (const auto& t : r.objects.back().objects)
+    if (t.state == TO::STATE_CONFIRMED) {
+      EXPECT_LT(t.y, 3.5);
+    }
+  // Static output: valid, holds the walls, not the people.
+  const auto& s = r.statics.back();
+  EXPECT_TRUE(s.valid);
+  EXPECT_GT(s.num_points, 50);
+  for (int i = 0; i < s.num_points; ++i) {
+    const double t = 179 * 0.02;
+    EXPECT_GT(std::hypot(s.x[i] - people[0].x(t), s.y[i] - people[0].y(t)), 0.2);
+  }
+  EXPECT_NEAR(s.origin_z, 0.5, 1e-9);
+}
+
+TEST(PerceptionNode, GivenAPersonHiddenThenCovarianceGrowsWhileCoastingAndShrinksOnItsReturnWithTheSameId) {
+  PerceptionNode node(testParams());
+  const scene::Person p{2.0, -1.0, 1.0, 0.0};
+  // Visible for 80 frames; for frames 80..89 a board stands between the sensor and the
+  // person (the person's own points are gone too), then the person is visible again.
+  scene::Generator gen;
+  std::vector<ucon::tracked_objects_t> objs;
+  for (int k = 0; k < 100; ++k) {
+    node.onPose(scene::pose(scene::frameTime(k)));
+    const bool hidden = k >= 80 && k < 90;
+    std::vector<scene::Wall> walls = kWalls;
+    if (hidden) {
+      const double t = k * 0.02, s = 0.6;  // board at 60 % of the way to the person, 1 m wide
+      walls.push_back({s * p.x(t), s * p.y(t) - 0.5, s * p.x(t), s * p.y(t) + 0.5, 0.04, 0.04});
+    }
+    auto out = node.onPoints(gen.frame(k, hidden ? std::vector<scene::Person>{} : std::vector<scene::Person>{p}, walls));
+    ASSERT_TRUE(out.objects);
+    objs.push_back(*out.objects);
+  }
+  const TO* before = nearestConfirmed(objs[79], p.x(79 * 0.02), p.y(79 * 0.02));
+  ASSERT_TRUE(before);
+  double prev_var = before->cov[0];
+  // Frame 80 still merges frame 79's points (accumulate_frames = 2); from 81 on it coasts.
+  for (int k = 81; k < 90; ++k) {
+    const TO* c = nullptr;
+    for (const auto& t : objs[k].objects)
+      if (t.id == before->id) c = &t;
+    ASSERT_TRUE(c) << k;
+    EXPECT_EQ(c->state, TO::STATE_COASTING) << k;
+    EXPECT_GT(c->cov[0], prev_var) << "variance must grow while coasting, frame " << k;
+    prev_var = c->cov[0];
+  }
+  const TO* after = nearestConfirmed(objs[91], p.x(91 * 0.02), p.y(91 * 0.02));
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->id, before->id);
+  EXPECT_LT(after->cov[0], prev_var);
+}
+
+TEST(PerceptionNode, GivenAPersonThatVanishesInPlainViewThenItsTrackIsDeletedQuickly) {
+  // Nothing hides it: the sensor sees the wall behind where it should be (negative evidence).
+  PerceptionNode node(testParams());
+  const scene::Person p{2.0, -1.0, 1.0, 0.0};
+  const RunResult r = run(node, 100, [&](int k) {
+    return k >= 80 ? std::vector<scene::Person>{} : std::vector<scene::Person>{p};
+  }, kWalls);
+  const TO* before = nearestConfirmed(r.objects[79], p.x(79 * 0.02), p.y(79 * 0.02));
+  ASSERT_TRUE(before);
+  bool alive_at_end = false;
+  for (const auto& t : r.objects.back().objects) alive_at_end = alive_at_end || t.id == before->id;
+  EXPECT_FALSE(alive_at_end) << "deleted long before max_coast (3 s)";
+}
+
+// Person A walks up beside person B and stays 0.55 m from B's centre (one cluster at the
+// 0.35 m clustering tolerance) for 40 frames (0.8 s), then leaves.
+// Object-level association alone loses A (its track coasts out); re-association keeps it.
+namespace {
+// Both walk across the sensor's view (+y at 0.8 m/s), B at x = 3, A at x = 4.6 except while
+// merged (x = 3.55).
+Eigen::Vector2d personB(int k) { return {3.0, -2.0 + 0.8 * k * 0.02}; }
+Eigen::Vector2d personA(int k) {
+  double ax = 4.6;
+  if (k >= 110 && k < 120) ax = 4.6 - (k - 110) * (1.05 / 10.0);
+  if (k >= 120 && k < 160) ax = 3.55;
+  if (k >= 160 && k < 170) ax = 3.55 + (k - 160) * (1.05 / 10.0);
+  return {ax, -2.0 + 0.8 * k * 0.02};
+}
+bool identitiesKept(const PerceptionParams& params) {
+  PerceptionNode node(params);
+  const RunResult r = run(node, 210, [&](int k) {
+    const Eigen::Vector2d a = personA(k), b = personB(k);
+    return std::vector<scene::Person>{{b.x(), b.y(), 0.0, 0.0}, {a.x(), a.y(), 0.0, 0.0}};
+  }, kWalls);
+  const TO* a0 = nearestConfirmed(r.objects[105], personA(105).x(), personA(105).y());
+  const TO* b0 = nearestConfirmed(r.objects[105], personB(105).x(), personB(105).y());
+  const TO* a1 = nearestConfirmed(r.objects[209], personA(209).x(), personA(209).y());
+  const TO* b1 = nearestConfirmed(r.objects[209], personB(209).x(), personB(209).y());
+  EXPECT_TRUE(a0 && b0 && a1 && b1) << (a0 != nullptr) << (b0 != nullptr) << (a1 != nullptr) << (b1 != nullptr);
+  if (!(a0 && b0 && a1 && b1)) return false;
+  if (params.reassociation.enabled) {
+    EXPECT_GT(node.status().counter("reassociations"), 0);
+  }
+  return a0->id == a1->id && b0->id == b1->id;
+}
+}  // namespace
+
+TEST(PerceptionNode, GivenAPersonMergedWithAnotherForManyFramesThenBothIdentitiesAreKept) {
+  EXPECT_TRUE(identitiesKept(testParams()));
+}
+
+// A person walks along a 2 m board 0.45 m beside its path: person and board form one cluster
+// too large to be an object (static) for ~2.5 s. Object-level association has nothing to
+// match; point-level historical re-association follows the person's points inside the
+// static cluster and keeps the identity. Without it (coasting 0.6 s, no re-identification)
+// the track is lost and the person comes back under a new id.
+namespace {
+Eigen::Vector2d walker(int k) { return {3.0, -2.5 + 0.8 * k * 0.02}; }
+bool keptAlongBoard(const PerceptionParams& params, int64_t* reassociations) {
+  PerceptionNode node(params);
+  std::vector<scene::Wall> walls = kWalls;
+  walls.push_back({3.45, -0.5, 3.45, 1.5, 0.1, 0.15});
+  const RunResult r = run(node, 330, [&](int k) {
+    const Eigen::Vector2d w = walker(k);
+    return std::vector<scene::Person>{{w.x(), w.y(), 0.0, 0.0}};
+  }, walls);
+  *reassociations = node.status().counter("reassociations");
+  const TO* before = nearestConfirmed(r.objects[95], walker(95).x(), walker(95).y());   // y = -0.98
+  const TO* after = nearestConfirmed(r.objects[329], walker(329).x(), walker(329).y()); // y = 2.76
+  EXPECT_TRUE(before && after);
+  return before && after && before->id == after->id;
+}
+}  // namespace
+
+TEST(PerceptionNode, GivenAPersonHiddenInAStaticClusterThenReassociationKeepsItsIdentity) {
+  PerceptionParams p = testParams();
+  p.tracks.reid_speed = 0.0;
+  p.tracks.max_coast = 0.6;
+  p.reassociation.max_consecutive = 1000;
+  // Points inside a static cluster carry no motion-test evidence; the pass takes ~3 s.
+  p.tracks.max_stationary = 10.0;
+  int64_t n = 0;
+  EXPECT_TRUE(keptAlongBoard(p, &n));
+  EXPECT_GT(n, 50) << "re-association carried the track along the board";
+  p.reassociation.enabled = false;
+  EXPECT_FALSE(keptAlongBoard(p, &n)) << "the scene must need re-association";
+  EXPECT_EQ(n, 0);
+}
+
+TEST(PerceptionNode, GivenBadInputThenNothingCrashesEverythingIsCountedAndOutputsAreInvalid) {
+  PerceptionNode node(testParams());
+  scene::Generator gen;
+  const std::vector<scene::Person> people{{2.0, -1.0, 1.0, 0.0}};
+  // No pose yet: invalid outputs.
+  auto out = node.onPoints(gen.frame(0, people, kWalls));
+  ASSERT_TRUE(out.objects && out.static_points);
+  EXPECT_FALSE(out.objects->valid);
+  EXPECT_FALSE(out.static_points->valid);
+  EXPECT_EQ(node.status().counter("frames_no_pose"), 1);
+  // Poses: invalid, NaN, then good ones.
+  auto bad = scene::pose(scene::frameTime(1));
+  bad.valid = false;
+  node.onPose(bad);
+  bad = scene::pose(scene::frameTime(1));
+  bad.x = std::nan("");
+  node.onPose(bad);
+  EXPECT_EQ(node.status().counter("poses_invalid"), 1);
+  EXPECT_EQ(node.status().counter("poses_non_finite"), 1);
+  for (int k = 1; k <= 3; ++k) node.onPose(scene::pose(scene::frameTime(k)));
+  node.onPose(scene::pose(scene::frameTime(2)));
+  EXPECT_EQ(node.status().counter("poses_out_of_order"), 1);
+  // NaN points are dropped and counted; the frame is still processed.
+  auto f1 = gen.frame(1, people, kWalls);
+  f1.x[0] = std::nanf("");
+  f1.z[5] = INFINITY;
+  out = node.onPoints(f1);
+  ASSERT_TRUE(out.objects);
+  EXPECT_TRUE(out.objects->valid);
+  EXPECT_EQ(node.status().counter("points_non_finite"), 2);
+  // Repeated and out-of-order frames are dropped.
+  EXPECT_FALSE(node.onPoints(f1).objects);
+  EXPECT_FALSE(node.onPoints(gen.frame(0, people, kWalls)).objects);
+  EXPECT_EQ(node.status().counter("frames_repeated"), 1);
+  EXPECT_EQ(node.status().counter("frames_out_of_order"), 1);
+  // Empty frame: invalid outputs.
+  auto empty = gen.frame(2, {}, {});
+  empty.x.clear();
+  empty.y.clear();
+  empty.z.clear();
+  empty.num_points = 0;
+  out = node.onPoints(empty);
+  ASSERT_TRUE(out.objects);
+  EXPECT_FALSE(out.objects->valid);
+  EXPECT_EQ(node.status().counter("frames_empty"), 1);
+  // Arrays that disagree with num_points, a bad frame id, a zero utime.
+  auto mal = gen.frame(3, people, kWalls);
+  mal.num_points += 5;
+  EXPECT_FALSE(node.onPoints(mal).objects);
+  EXPECT_EQ(node.status().counter("frames_malformed"), 1);
+  auto lid = gen.frame(3, people, kWalls);
+  lid.frame_id = "lidar";
+  out = node.onPoints(lid);
+  ASSERT_TRUE(out.objects);
+  EXPECT_FALSE(out.objects->valid);
+  EXPECT_EQ(node.status().counter("frames_bad_frame_id"), 1);
+  auto zero = gen.frame(4, people, kWalls);
+  zero.utime = 0;
+  EXPECT_FALSE(node.onPoints(zero).objects);
+  EXPECT_EQ(node.status().counter("frames_bad_utime"), 1);
+  // A frame far from every pose: stale.
+  out = node.onPoints(gen.frame(50, people, kWalls));
+  ASSERT_TRUE(out.objects);
+  EXPECT_FALSE(out.objects->valid);
+  EXPECT_EQ(node.status().counter("frames_stale_pose"), 1);
+  // The status message carries the counters.
+  const auto msg = node.status().build(node.now(), 0);
+  EXPECT_EQ(msg.health, ucon::process_status_t::HEALTH_WARN);
+  EXPECT_GT(msg.num_counters, 10);
+}
+
+TEST(PerceptionNode, GivenNoFramesForLongerThanTheTimeoutThenTickPublishesAnInvalidOutputOnce) {
+  PerceptionParams p = testParams();
+  PerceptionNode node(p);
+  scene::Generator gen;
+  node.onPose(scene::pose(scene::frameTime(0)));
+  ASSERT_TRUE(node.onPoints(gen.frame(0, {}, kWalls)).objects->valid);
+  EXPECT_FALSE(node.tick(scene::frameTime(5)).objects);  // 0.1 s < 0.2 s
+  auto out = node.tick(scene::frameTime(11));             // 0.22 s
+  ASSERT_TRUE(out.objects);
+  EXPECT_FALSE(out.objects->valid);
+  EXPECT_FALSE(node.tick(scene::frameTime(12)).objects);  // once per timeout
+}
+
+TEST(PerceptionNode, GivenTheSameInputTwiceThenOutputsAreByteIdentical) {
+  auto encode_all = [](const RunResult& r) {
+    std::vector<uint8_t> bytes;
+    auto put = [&](const auto& m) {
+      std::vector<uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
+      m.encode(b.data(), 0, static_cast<int>(b.size()));
+      bytes.insert(bytes.end(), b.begin(), b.end());
+    };
+    for (const auto& o : r.objects) put(o);
+    for (const auto& s : r.statics) put(s);
+    return bytes;
+  };
+  const std::vector<scene::Person> people{{1.0, -2.0, 1.0, 0.0}, {6.0, 2.5, 0.0, -0.8}};
+  for (const char* method : {"ucon", "fapp"}) {
+    PerceptionParams p = testParams();
+    p.association = method;
+    PerceptionNode n1(p), n2(p);
+    const auto a = encode_all(run(n1, 80, [&](int) { return people; }, kWalls));
+    const auto b = encode_all(run(n2, 80, [&](int) { return people; }, kWalls));
+    EXPECT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == b) << method;
+  }
+}
+
+TEST(PerceptionNode, GivenTheFappBaselineThenItTracksAndNeverReassociates) {
+  PerceptionParams p = testParams();
+  p.association = "fapp";
+  PerceptionNode node(p);
+  const std::vector<scene::Person> people{{2.0, -1.0, 1.0, 0.0}};
+  const RunResult r = run(node, 80, [&](int) { return people; }, kWalls);
+  EXPECT_TRUE(nearestConfirmed(r.objects.back(), people[0].x(79 * 0.02), people[0].y(79 * 0.02)));
+  EXPECT_EQ(node.status().counter("reassociations"), 0);
+}
