@@ -130,17 +130,46 @@ void PlannerNode::onObjects(const tracked_objects_t& msg) {
 
 void PlannerNode::onStatic(const static_points_t& msg) {
   report_.count("static_in");
-  int64_t skipped = 0;
-  const InsertStatus st = map_.insert(msg, &skipped);
-  if (skipped > 0) report_.count("static_points_nan", skipped);
+  if (!msg.valid || msg.utime <= 0 || msg.num_points < 0 ||
+      msg.x.size() != std::size_t(msg.num_points) || msg.y.size() != std::size_t(msg.num_points) ||
+      msg.z.size() != std::size_t(msg.num_points) ||
+      !std::isfinite(msg.origin_x) || !std::isfinite(msg.origin_y) || !std::isfinite(msg.origin_z)) {
+    report_.count("static_rejected");
+    return;
+  }
+  int64_t nan = 0;
+  for (int i = 0; i < msg.num_points; ++i) {
+    const Eigen::Vector3f p(msg.x[i], msg.y[i], msg.z[i]);
+    if (p.allFinite()) {
+      pending_points_.push_back(p);
+    } else {
+      ++nan;
+    }
+  }
+  if (nan > 0) report_.count("static_points_nan", nan);
+  // Rays of the merged frames start at the newest origin (the robot moves ~15 cm in 0.1 s).
+  pending_origin_ = Eigen::Vector3d(msg.origin_x, msg.origin_y, msg.origin_z);
+  pending_range_ = (std::isfinite(msg.max_range) && msg.max_range > 0.0f) ? double(msg.max_range) : 0.0;
+  clock_.observe(msg.utime);
+  ++static_frames_;
+  if (last_insert_utime_ == 0 ||
+      msg.utime - last_insert_utime_ >= int64_t(std::llround(params_.static_insert_period_s * kUsPerS))) {
+    last_insert_utime_ = msg.utime;
+    flushStaticPoints();
+  }
+}
+
+void PlannerNode::flushStaticPoints() {
+  if (pending_points_.empty()) return;
+  const InsertStatus st = map_.insert(pending_origin_, pending_points_, pending_range_);
+  pending_points_.clear();
   if (st != InsertStatus::kOk) {
     report_.count("static_rejected");
     return;
   }
-  clock_.observe(msg.utime);
+  report_.count("static_insertions");
   map_dirty_ = true;
   map_received_ = true;
-  ++static_frames_;
 }
 
 void PlannerNode::onGoal(const nav_goal_t& msg) {

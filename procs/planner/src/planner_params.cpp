@@ -28,6 +28,7 @@ void PlannerParams::read(ConfigReader& r) {
   r.read("replan_deviation", replan_deviation, 0.01, 10.0);
   r.read("pose_timeout_s", pose_timeout_s, 0.01, 10.0);
   r.read("goal_default_tolerance", goal_default_tolerance, 0.01, 10.0);
+  r.read("static_insert_period_s", static_insert_period_s, 0.0, 1.0);
   r.read("max_attempts", max_attempts, 1, 5);
   r.read("retry_speed_scale", retry_speed_scale, 0.1, 1.0);
   r.read("escape_candidates", escape_candidates, 0, 16);

@@ -78,6 +78,9 @@ class PlannerNode {
   /// The map (benchmarks build it from known geometry; tests inspect it). Call
   /// notifyMapChanged() after writing to it directly.
   EsdfMap& map() { return map_; }
+  /// Ray-inserts the static frames gathered so far (tick() does this every
+  /// static_insert_period_s; tests and benchmarks may force it).
+  void flushStaticPoints();
   void notifyMapChanged() {
     map_dirty_ = true;
     map_received_ = true;
@@ -133,6 +136,11 @@ class PlannerNode {
   bool map_received_ = false;
   std::string pending_message_;
   int64_t static_frames_ = 0;
+  // Static frames gathered since the last ray insertion (see PlannerParams::static_insert_period_s).
+  std::vector<Eigen::Vector3f> pending_points_;
+  Eigen::Vector3d pending_origin_ = Eigen::Vector3d::Zero();
+  double pending_range_ = 0.0;
+  int64_t last_insert_utime_ = 0;
   trajectory::PiecewisePolynomial current_;
   trajectory_t current_msg_{};
   int8_t current_status_ = trajectory_t::STATUS_INVALID;

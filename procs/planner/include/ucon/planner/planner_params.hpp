@@ -39,6 +39,10 @@ struct PlannerParams {
   double horizon_length = 7.0;        ///< longest guide path handed to the optimiser [m]
   double replan_deviation = 0.5;      ///< robot farther than this from the trajectory: restart from the pose [m]
   double pose_timeout_s = 0.5;        ///< pose older than this: stop [s]
+  /// Static frames are gathered and ray-inserted together at most this often [s], 0..1
+  /// (0 = every frame). OctoMap's ray insertion dominates the planner's CPU at the LiDAR's
+  /// 50 Hz; one insertion of five merged frames casts each repeated endpoint once.
+  double static_insert_period_s = 0.1;
   double goal_default_tolerance = 0.3; ///< used when nav_goal_t.tolerance is not > 0 [m]
   int max_attempts = 3;               ///< optimiser runs per cycle before giving up (slower, then shorter guesses), 1..5
   double retry_speed_scale = 0.6;     ///< each retry's initial guess is this much slower, 0.1..1
