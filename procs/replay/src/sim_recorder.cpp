@@ -150,17 +150,23 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
   const int64_t end = t0 + static_cast<int64_t>(std::llround(config.duration_s * 1e6));
   simulator::SimOutputs out;
   lidar_driver::DriverOutputs dout;
+  auto toDriver = [&](const simulator::Datagram& d) {
+    if (config.before_driver) config.before_driver();
+    driver.onDatagram(d.bytes.data(), d.bytes.size(), dout);
+    if (config.after_driver) config.after_driver(dout.clouds.size());
+  };
+  int64_t last_t = t0;
   for (int64_t t = t0 + config.step_us; t <= end; t += config.step_us) {
     out.clear();
     sim.advanceTo(t, out);
     // Fixed order within a step: driver outputs (frames completed, IMU), poses, ground truth,
     // then the scripted plan.
     for (const auto& d : out.point_packets) {
-      driver.onDatagram(d.bytes.data(), d.bytes.size(), dout);
+      toDriver(d);
       for (const auto& c : dout.clouds) bus.publish(channels::kLidarPoints, c);
     }
     for (const auto& d : out.imu_packets) {
-      driver.onDatagram(d.bytes.data(), d.bytes.size(), dout);
+      toDriver(d);
       for (const auto& c : dout.clouds) bus.publish(channels::kLidarPoints, c);
       if (dout.imu) bus.publish(channels::kLidarImu, *dout.imu);
     }
@@ -173,7 +179,11 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
       bus.publish(channels::kPlannerTrajectory, m);
       next_plan += 100000;  // 10 Hz, as the planner
     }
+    last_t = t;
+    if (config.stop && config.stop()) break;
   }
+  summary.sim_time_s = static_cast<double>(last_t - t0) * 1e-6;
+  summary.collision_episodes = sim.counters().collision_episodes;
   summary.final_x = sim.robot().x;
   summary.final_y = sim.robot().y;
   summary.min_clearance = sim.minClearance();

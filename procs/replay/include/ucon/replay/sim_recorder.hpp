@@ -41,6 +41,15 @@ struct RecorderConfig {
   double scripted_length = 3.0;  ///< longest scripted drive [m], (0, 100]
   /// (key, value) pairs for the LOG_METADATA event written first (e.g. "config/x.yaml", text).
   std::vector<std::pair<std::string, std::string>> metadata;
+
+  // Optional hooks for harnesses that run the same loop to measure it (ucon-bench-nav). They
+  // are called synchronously; nothing here reads a clock, the hooks may.
+  /// Called just before a datagram is handed to the lidar driver.
+  std::function<void()> before_driver;
+  /// Called just after, with the number of point frames that datagram completed.
+  std::function<void(std::size_t frames_completed)> after_driver;
+  /// Checked after every step; true ends the run before duration_s (e.g. goal reached).
+  std::function<bool()> stop;
 };
 
 /// Receives every message in publication order: channel, utime [us] (used as the event
@@ -52,6 +61,8 @@ struct RecordSummary {
   int64_t wheel_cmds_applied = 0;
   double final_x = 0.0, final_y = 0.0;      ///< robot position at the end [m]
   double min_clearance = 0.0;               ///< [m]
+  double sim_time_s = 0.0;                  ///< simulated seconds run (< duration_s if stopped)
+  int64_t collision_episodes = 0;           ///< simulator's count
 };
 
 /// Runs the closed loop for config.duration_s. `nodes` are fed in the given order.

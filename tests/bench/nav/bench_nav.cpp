@@ -1,0 +1,585 @@
+// ucon-bench-nav: the whole navigation stack in-process and in lock step (issue 8). Per run:
+// the Simulator emulates the Mid-360 (Livox UDP datagrams, as the live simulator sends them),
+// the lidar driver node parses them and assembles point frames, then perception, planner and
+// base controller nodes run through their replay adapters on a zero-latency bus
+// (ucon::replay::recordSimulatedRun, the same loop as ucon-sim-record); BASE_WHEEL_CMD drives
+// the simulator's Mecanum plant. The mission (ucon::mission::MissionNode, as in `deploy/ucon
+// sim`) sends the scenario's goals on NAV_GOAL. Time is simulation utime only; the wall clock
+// only measures stage latencies and the speed relative to real time.
+//
+// A run succeeds when every goal is reached within the timeout with no collision; it stops at
+// the goal, at the first collision or at the timeout. Prints a table and writes JSON
+// {"results": [{"n_dynamic", "runs", "success_rate", "collisions", "time_to_goal_s",
+//               "realtime_factor", "latency_ms": {"driver", "perception", "planner", "controller"}}]}.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ucon/channels.hpp"
+#include "ucon/config.hpp"
+#include "ucon/lidar_driver/driver_params.hpp"
+#include "ucon/mission/mission_node.hpp"
+#include "ucon/replay/node_adapter.hpp"
+#include "ucon/replay/sim_recorder.hpp"
+#include "ucon/runtime/config_file.hpp"
+#include "ucon/simulator/params.hpp"
+#include "ucon/simulator/scenario_loader.hpp"
+
+#ifndef UCON_SOURCE_DIR
+#define UCON_SOURCE_DIR "."
+#endif
+
+namespace {
+
+namespace rp = ucon::replay;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// CPU time of the calling thread [s]: the loop's own cost, whatever else the machine runs.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string item; std::getline(ss, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const double pos = q * double(v.size() - 1);
+  const std::size_t i = std::size_t(std::floor(pos));
+  const std::size_t j = std::min(v.size() - 1, i + 1);
+  return v[i] + (v[j] - v[i]) * (pos - double(i));
+}
+
+std::string num(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.6g", x);
+  return buf;
+}
+
+const char* const kStages[] = {"driver", "perception", "planner", "controller"};
+constexpr int kNumStages = 4;
+
+/// Wall time of one stage: every call (total) and the calls that are one unit of the stage's
+/// work (samples: a frame for the driver and perception, a plan for the planner, a control
+/// tick for the controller).
+struct StageTimes {
+  std::vector<double> samples_ms;
+  double total_ms = 0.0;
+  std::map<std::string, double> by_input_ms;  ///< total per input channel (nodes only)
+};
+
+/// Times a node's feed() (decode, handlers, ticks, encode; the consumers of its outputs run
+/// after feed() returns, so they are not included).
+class TimedAdapter : public rp::NodeAdapter {
+ public:
+  /// `unit_channel`: a feed whose outputs include this channel (or, if `on_input`, a feed of
+  /// this channel) is one sample.
+  TimedAdapter(rp::NodeAdapter* inner, StageTimes* times, std::string unit_channel, bool on_input)
+      : inner_(inner), times_(times), unit_(std::move(unit_channel)), on_input_(on_input) {}
+
+  std::string name() const override { return inner_->name(); }
+  std::vector<std::string> inputChannels() const override { return inner_->inputChannels(); }
+  std::vector<std::string> outputChannels() const override { return inner_->outputChannels(); }
+  std::vector<std::pair<std::string, int64_t>> counters() const override { return inner_->counters(); }
+
+  rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                      std::vector<rp::OutputMessage>* out) override {
+    const std::size_t before = out->size();
+    const auto t0 = Clock::now();
+    const rp::FeedResult r = inner_->feed(channel, data, size, out);
+    const double ms = msSince(t0);
+    times_->total_ms += ms;
+    times_->by_input_ms[channel] += ms;
+    bool unit = on_input_ && channel == unit_;
+    for (std::size_t i = before; !on_input_ && i < out->size(); ++i) unit = unit || (*out)[i].channel == unit_;
+    if (unit) times_->samples_ms.push_back(ms);
+    return r;
+  }
+
+ private:
+  rp::NodeAdapter* inner_;
+  StageTimes* times_;
+  std::string unit_;
+  bool on_input_;
+};
+
+/// The mission in the loop: ROBOT_POSE and SIM_GROUND_TRUTH in, NAV_GOAL out (the scenario's
+/// goals in order, re-sent every resend_period_s until reached, as ucon-mission does).
+class MissionAdapter : public rp::NodeAdapter {
+ public:
+  MissionAdapter(const ucon::mission::MissionParams& p, std::vector<Eigen::Vector2d> goals, double timeout_s)
+      : node_(p, std::move(goals), timeout_s) {}
+
+  std::string name() const override { return "mission"; }
+  std::vector<std::string> inputChannels() const override {
+    return {ucon::channels::kRobotPose, ucon::channels::kSimGroundTruth};
+  }
+  std::vector<std::string> outputChannels() const override { return {ucon::channels::kNavGoal}; }
+  std::vector<std::pair<std::string, int64_t>> counters() const override { return {{"goals_sent", goals_sent_}}; }
+
+  rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                      std::vector<rp::OutputMessage>* out) override {
+    if (channel == ucon::channels::kRobotPose) {
+      ucon::robot_pose_t m;
+      if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
+      if (auto g = node_.onPose(m)) {
+        out->push_back(rp::encodeOutput(ucon::channels::kNavGoal, *g));
+        ++goals_sent_;
+      }
+      const auto s = node_.summary();
+      reached_all_ = s.goals_total > 0 && s.goals_reached == s.goals_total;
+    } else if (channel == ucon::channels::kSimGroundTruth) {
+      ucon::sim_ground_truth_t m;
+      if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
+      node_.onGroundTruth(m);
+      if (!collided_ && (m.collision || m.num_collisions > 0)) {
+        // What was hit: the nearest mover if the robot touches it, else a static obstacle.
+        double best = INFINITY;
+        const ucon::sim_object_t* hit = nullptr;
+        for (const auto& o : m.objects) {
+          const double gap = std::hypot(o.x - m.robot_x, o.y - m.robot_y) - o.radius - m.robot_radius;
+          if (gap < best) {
+            best = gap;
+            hit = &o;
+          }
+        }
+        char buf[96];
+        if (hit && best < 0.05) {
+          std::snprintf(buf, sizeof(buf), "mover %lld (%.2f m/s)", static_cast<long long>(hit->id),
+                        std::hypot(hit->vx, hit->vy));
+          hit_mover_ = true;
+        } else {
+          std::snprintf(buf, sizeof(buf), "static");
+        }
+        collision_with_ = buf;
+        robot_speed_at_hit_ = std::hypot(m.robot_vx, m.robot_vy);
+      }
+      collided_ = collided_ || m.collision || m.num_collisions > 0;
+    } else {
+      return rp::FeedResult::kIgnored;
+    }
+    return rp::FeedResult::kHandled;
+  }
+
+  bool reachedAll() const { return reached_all_; }
+  bool collided() const { return collided_; }
+  const std::string& collisionWith() const { return collision_with_; }
+  bool hitMover() const { return hit_mover_; }
+  double robotSpeedAtHit() const { return robot_speed_at_hit_; }
+  bool timedOut() const { return node_.done() && !reached_all_; }
+  ucon::mission::MissionSummary summary() const { return node_.summary(); }
+
+ private:
+  ucon::mission::MissionNode node_;
+  bool reached_all_ = false, collided_ = false, hit_mover_ = false;
+  std::string collision_with_;
+  double robot_speed_at_hit_ = NAN;
+  int64_t goals_sent_ = 0;
+};
+
+/// Everything a run needs that is read once from files.
+struct Setup {
+  ucon::simulator::SimulatorParams sim;
+  ucon::lidar_driver::DriverParams driver;
+  ucon::mission::MissionParams mission;
+  std::map<std::string, std::string> node_yaml;  // node name -> YAML text
+  std::string config_dir, scenario_dir;
+};
+
+struct RunResult {
+  int n_dynamic = 0;
+  uint64_t seed = 0;
+  bool ok = false;  ///< the run could be set up
+  std::string error;
+  bool success = false, collision = false, timeout = false;
+  double time_to_goal_s = NAN;
+  double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0;
+  double min_clearance = NAN;
+  std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
+  bool hit_mover = false;
+  double robot_speed_at_hit = NAN;
+  double dist_start_goal = 0.0, dist_left = 0.0;
+  std::map<std::string, int64_t> messages;
+  int64_t wheel_cmds_applied = 0;
+  StageTimes stages[kNumStages];
+  bool pipelineBroken(std::string* why) const {
+    auto count = [&](const char* ch) {
+      auto it = messages.find(ch);
+      return it == messages.end() ? int64_t{0} : it->second;
+    };
+    if (!ok) return *why = error, true;
+    if (count(ucon::channels::kLidarPoints) == 0) return *why = "no LIDAR_POINTS frames", true;
+    if (count(ucon::channels::kPerceptionObjects) == 0) return *why = "no PERCEPTION_OBJECTS", true;
+    if (count(ucon::channels::kPlannerTrajectory) == 0) return *why = "no PLANNER_TRAJECTORY", true;
+    if (wheel_cmds_applied == 0) return *why = "no wheel command reached the plant", true;
+    if (dist_start_goal - dist_left < 1.0) return *why = "the robot did not get 1 m closer to its goal", true;
+    return false;
+  }
+};
+
+RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeout_s) {
+  RunResult res;
+  res.n_dynamic = n_dynamic;
+  res.seed = seed;
+  const std::string spec = "bench:" + std::to_string(n_dynamic) + ":" + std::to_string(seed);
+  std::string err;
+  auto sc = ucon::simulator::loadScenario(spec, setup.scenario_dir, -1, ucon::runtime::readTextFile, &err);
+  if (!sc) {
+    res.error = spec + ": " + err;
+    return res;
+  }
+  if (sc->robot.goals.empty()) {
+    res.error = spec + ": the scenario has no goal";
+    return res;
+  }
+
+  std::vector<std::unique_ptr<rp::NodeAdapter>> owned;
+  std::vector<std::unique_ptr<rp::NodeAdapter>> timed;
+  const struct {
+    const char* node;
+    int stage;
+    const char* unit;
+    bool on_input;
+  } kNodes[] = {{"perception", 1, ucon::channels::kLidarPoints, true},
+                {"planner", 2, ucon::channels::kPlannerTrajectory, false},
+                {"base_controller", 3, ucon::channels::kBaseWheelCmd, false}};
+  for (const auto& n : kNodes) {
+    auto a = rp::makeAdapter(n.node, setup.node_yaml.at(n.node), setup.config_dir + "/" + n.node + ".yaml", &err);
+    if (!a) {
+      res.error = err;
+      return res;
+    }
+    timed.push_back(std::make_unique<TimedAdapter>(a.get(), &res.stages[n.stage], n.unit, n.on_input));
+    owned.push_back(std::move(a));
+  }
+  MissionAdapter mission(setup.mission, sc->robot.goals, timeout_s);
+
+  // Mission first: a pose that reaches a goal updates it before the planner sees the pose.
+  std::vector<rp::NodeAdapter*> loop{&mission};
+  for (auto& t : timed) loop.push_back(t.get());
+
+  rp::RecorderConfig cfg;
+  cfg.sim = setup.sim;
+  cfg.driver = setup.driver;
+  cfg.scenario = *sc;
+  cfg.duration_s = timeout_s + 0.1;  // the mission ends the run at timeout_s of pose time
+  cfg.send_goal = false;             // the mission sends the goals
+  cfg.scripted_plan = false;         // the planner plans
+  StageTimes& drv = res.stages[0];
+  Clock::time_point drv_t0;
+  double frame_ms = 0.0;
+  cfg.before_driver = [&] { drv_t0 = Clock::now(); };
+  cfg.after_driver = [&](std::size_t frames) {
+    const double ms = msSince(drv_t0);
+    drv.total_ms += ms;
+    frame_ms += ms;
+    if (frames > 0) {  // parse + assembly time of the datagrams of one frame
+      drv.samples_ms.push_back(frame_ms);
+      frame_ms = 0.0;
+    }
+  };
+  cfg.stop = [&] { return mission.reachedAll() || mission.collided() || mission.timedOut(); };
+
+  const auto t0 = Clock::now();
+  const double cpu0 = threadCpuSeconds();
+  const rp::RecordSummary s =
+      rp::recordSimulatedRun(cfg, loop, [](const std::string&, int64_t, const std::vector<uint8_t>&) {});
+  res.wall_s = msSince(t0) * 1e-3;
+  res.cpu_s = threadCpuSeconds() - cpu0;
+  res.collision_with = mission.collisionWith();
+  res.hit_mover = mission.hitMover();
+  res.robot_speed_at_hit = mission.robotSpeedAtHit();
+  res.ok = true;
+  res.sim_s = s.sim_time_s;
+  res.messages = s.messages;
+  res.wheel_cmds_applied = s.wheel_cmds_applied;
+  res.min_clearance = s.min_clearance;
+  const Eigen::Vector2d goal = sc->robot.goals.back();
+  res.dist_start_goal = (sc->robot.start - goal).norm();
+  res.dist_left = (Eigen::Vector2d(s.final_x, s.final_y) - goal).norm();
+  const auto ms = mission.summary();
+  res.collision = s.collision_episodes > 0 || mission.collided();
+  res.success = mission.reachedAll() && !res.collision;
+  res.timeout = !mission.reachedAll() && !res.collision;
+  if (mission.reachedAll()) res.time_to_goal_s = ms.time_to_goals_s;
+  return res;
+}
+
+template <class P>
+bool loadParamsFile(const std::string& path, P* out, std::string* text, std::string* err) {
+  auto t = ucon::runtime::readTextFile(path, err);
+  if (!t) return false;
+  std::vector<ucon::ConfigError> errors;
+  auto p = ucon::loadParams<P>(*t, path, &errors);
+  if (!p) {
+    *err = path + ":";
+    for (const auto& e : errors) *err += " " + e.toString();
+    return false;
+  }
+  *out = *p;
+  if (text) *text = *t;
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "UCON full-stack navigation benchmark: simulated Mid-360 packets -> driver -> perception -> planner -> "
+      "base controller -> Mecanum plant, in-process, on bench:<N_d>:<seed>."};
+  std::string json_path;
+  int seeds = 10;
+  uint64_t seed_base = 1;
+  std::string densities = "50,80,110";
+  int jobs = 1;
+  bool quick = false, verbose = false;
+  double timeout_s = 120.0;
+  Setup setup;
+  setup.config_dir = std::string(UCON_SOURCE_DIR) + "/deploy/config";
+  setup.scenario_dir = std::string(UCON_SOURCE_DIR) + "/deploy/scenarios";
+  app.add_option("--json", json_path, "write results as JSON to this file");
+  app.add_option("--seeds", seeds, "worlds per density (seeds B .. B+N-1)")->check(CLI::PositiveNumber);
+  app.add_option("--seed-base", seed_base, "first seed");
+  app.add_option("--densities", densities, "comma list of moving-obstacle counts N_d");
+  app.add_option("--jobs", jobs, "parallel runs (threads)")->check(CLI::PositiveNumber);
+  app.add_flag("--quick", quick,
+               "pipeline check for ctest: 1 seed at N_d = 50, 20 s timeout; exit 1 only if the pipeline breaks");
+  app.add_option("--timeout", timeout_s, "simulated seconds allowed per run [s]")->check(CLI::PositiveNumber);
+  app.add_option("--config-dir", setup.config_dir,
+                 "folder of simulator.yaml, lidar_driver.yaml, perception.yaml, planner.yaml, "
+                 "base_controller.yaml, mission.yaml");
+  app.add_option("--scenario-dir", setup.scenario_dir, "folder of the builtin scenarios");
+  app.add_flag("--verbose", verbose, "one line per run as it ends");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) {
+    if (app.count("--seeds") == 0) seeds = 1;
+    if (app.count("--densities") == 0) densities = "50";
+    if (app.count("--timeout") == 0) timeout_s = 20.0;
+    verbose = true;
+  }
+
+  std::string err;
+  if (!loadParamsFile(setup.config_dir + "/simulator.yaml", &setup.sim, nullptr, &err) ||
+      !loadParamsFile(setup.config_dir + "/lidar_driver.yaml", &setup.driver, nullptr, &err) ||
+      !loadParamsFile(setup.config_dir + "/mission.yaml", &setup.mission, nullptr, &err)) {
+    std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
+    return 2;
+  }
+  if (const std::string bad = setup.sim.validate(); !bad.empty()) {
+    std::fprintf(stderr, "ucon-bench-nav: simulator.yaml: %s\n", bad.c_str());
+    return 2;
+  }
+  for (const char* n : {"perception", "planner", "base_controller"}) {
+    const std::string path = setup.config_dir + "/" + n + ".yaml";
+    auto t = ucon::runtime::readTextFile(path, &err);
+    if (!t) {
+      std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
+      return 2;
+    }
+    // Fail early on a bad config or a node missing from this build.
+    if (!rp::makeAdapter(n, *t, path, &err)) {
+      std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
+      return 2;
+    }
+    setup.node_yaml[n] = *t;
+  }
+  std::vector<int> density_list;
+  for (const auto& d : split(densities)) {
+    const int n = std::atoi(d.c_str());
+    if (n < 0) {
+      std::fprintf(stderr, "ucon-bench-nav: bad density '%s'\n", d.c_str());
+      return 2;
+    }
+    density_list.push_back(n);
+  }
+
+  struct Task {
+    int n_dynamic;
+    uint64_t seed;
+  };
+  std::vector<Task> tasks;
+  for (int s = 0; s < seeds; ++s)
+    for (int d : density_list) tasks.push_back({d, seed_base + uint64_t(s)});
+  std::vector<RunResult> results(tasks.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex print_mutex;
+  const auto bench_t0 = Clock::now();
+  auto worker = [&] {
+    for (std::size_t i = next++; i < tasks.size(); i = next++) {
+      results[i] = runOne(setup, tasks[i].n_dynamic, tasks[i].seed, timeout_s);
+      const auto& r = results[i];
+      if (verbose || !r.ok) {
+        std::lock_guard<std::mutex> lock(print_mutex);
+        if (!r.ok) {
+          std::printf("N_d=%3d seed=%4llu ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed, r.error.c_str());
+        } else {
+          std::printf("N_d=%3d seed=%4llu %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
+                      "clear=%5.2fm frames=%lld plans=%lld | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s\n",
+                      r.n_dynamic, (unsigned long long)r.seed,
+                      r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
+                      r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
+                      (long long)(r.messages.count(ucon::channels::kLidarPoints) ? r.messages.at(ucon::channels::kLidarPoints) : 0),
+                      (long long)(r.messages.count(ucon::channels::kPlannerTrajectory) ? r.messages.at(ucon::channels::kPlannerTrajectory) : 0),
+                      percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
+                      percentile(r.stages[2].samples_ms, 0.5), percentile(r.stages[3].samples_ms, 0.5),
+                      r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, r.collision ? " | hit " : "",
+                      r.collision ? (r.collision_with + " at robot speed " + num(r.robot_speed_at_hit) + " m/s").c_str() : "");
+        }
+        std::fflush(stdout);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, jobs); ++j) pool.emplace_back(worker);
+  for (auto& t : pool) t.join();
+  const double bench_wall_s = msSince(bench_t0) * 1e-3;
+
+  struct Row {
+    int n_dynamic = 0;
+    int runs = 0, successes = 0, collisions = 0, timeouts = 0;
+    std::vector<double> ttg;
+    double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0;
+    int hit_mover = 0, hit_static = 0;
+    std::vector<double> samples[kNumStages];
+    double stage_total_ms[kNumStages] = {0, 0, 0, 0};
+    std::map<std::string, double> by_input_ms[kNumStages];
+  };
+  std::vector<Row> rows;
+  int rc = 0;
+  for (int d : density_list) {
+    Row row;
+    row.n_dynamic = d;
+    for (const auto& r : results) {
+      if (r.n_dynamic != d) continue;
+      std::string why;
+      if (r.pipelineBroken(&why)) {
+        std::fprintf(stderr, "ucon-bench-nav: pipeline broken at bench:%d:%llu: %s\n", d,
+                     (unsigned long long)r.seed, why.c_str());
+        rc = 1;
+      }
+      if (!r.ok) continue;
+      ++row.runs;
+      row.successes += r.success;
+      row.collisions += r.collision;
+      row.timeouts += r.timeout;
+      if (r.success) row.ttg.push_back(r.time_to_goal_s);
+      row.sim_s += r.sim_s;
+      row.wall_s += r.wall_s;
+      row.cpu_s += r.cpu_s;
+      if (r.collision) (r.hit_mover ? row.hit_mover : row.hit_static) += 1;
+      for (int k = 0; k < kNumStages; ++k) {
+        row.samples[k].insert(row.samples[k].end(), r.stages[k].samples_ms.begin(), r.stages[k].samples_ms.end());
+        row.stage_total_ms[k] += r.stages[k].total_ms;
+        for (const auto& [ch, ms] : r.stages[k].by_input_ms) row.by_input_ms[k][ch] += ms;
+      }
+    }
+    rows.push_back(std::move(row));
+  }
+  auto mean = [](const std::vector<double>& v) {
+    if (v.empty()) return double(NAN);
+    double s = 0.0;
+    for (double x : v) s += x;
+    return s / double(v.size());
+  };
+
+  std::printf("\nFull-stack navigation on bench:<N_d>:<seed> (%d seeds from %llu, timeout %.0f s, %u hardware "
+              "threads, %d jobs, %.1f s wall)\n",
+              seeds, (unsigned long long)seed_base, timeout_s, std::thread::hardware_concurrency(), jobs,
+              bench_wall_s);
+  std::printf("%5s %5s | %8s %5s %6s | %9s %9s | %6s %6s | %s\n", "N_d", "runs", "succ[%]", "coll", "tmout",
+              "t_goal[s]", "t_goal_md", "RT x", "RT cpu", "median latency [ms]: driver/frame  perception/frame  "
+              "planner/plan  controller/tick");
+  for (const auto& r : rows) {
+    std::printf("%5d %5d | %8.1f %5d %6d | %9.1f %9.1f | %6.2f %6.2f | %8.3f %8.2f %8.2f %8.3f\n", r.n_dynamic, r.runs,
+                r.runs ? 100.0 * r.successes / r.runs : NAN, r.collisions, r.timeouts, mean(r.ttg),
+                percentile(r.ttg, 0.5), r.wall_s > 0 ? r.sim_s / r.wall_s : NAN,
+                r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, percentile(r.samples[0], 0.5),
+                percentile(r.samples[1], 0.5), percentile(r.samples[2], 0.5), percentile(r.samples[3], 0.5));
+  }
+  std::printf("(RT x = simulated seconds / wall seconds of the whole loop, simulator included, per run thread;\n"
+              " RT cpu = simulated seconds / CPU seconds of that thread, i.e. without waiting for a core;\n"
+              " coll = runs that ended in a collision; t_goal = mean / median over successful runs)\n");
+  std::printf("collisions with movers / static obstacles:");
+  for (const auto& r : rows) std::printf("  N_d=%d: %d / %d", r.n_dynamic, r.hit_mover, r.hit_static);
+  std::printf("\n");
+  std::printf("\nWall time per simulated second [ms] (share of the loop): driver, perception, planner, "
+              "controller, simulator+bus\n");
+  for (const auto& r : rows) {
+    if (r.sim_s <= 0) continue;
+    double staged = 0.0;
+    std::printf("%5d |", r.n_dynamic);
+    for (int k = 0; k < kNumStages; ++k) {
+      staged += r.stage_total_ms[k];
+      std::printf(" %s %7.1f (%4.1f%%)", kStages[k], r.stage_total_ms[k] / r.sim_s,
+                  100.0 * r.stage_total_ms[k] / (1e3 * r.wall_s));
+    }
+    const double rest = 1e3 * r.wall_s - staged;
+    std::printf(" | rest %7.1f (%4.1f%%)\n", rest / r.sim_s, 100.0 * rest / (1e3 * r.wall_s));
+  }
+  std::printf("Node wall time per simulated second by input channel [ms]:\n");
+  for (const auto& r : rows) {
+    if (r.sim_s <= 0) continue;
+    std::printf("%5d |", r.n_dynamic);
+    for (int k = 1; k < kNumStages; ++k) {
+      for (const auto& [ch, ms] : r.by_input_ms[k]) std::printf(" %s<-%s %.1f", kStages[k], ch.c_str(), ms / r.sim_s);
+    }
+    std::printf("\n");
+  }
+  std::printf("p95 latency [ms]:\n");
+  for (const auto& r : rows) {
+    std::printf("%5d |", r.n_dynamic);
+    for (int k = 0; k < kNumStages; ++k) std::printf(" %s %8.3f", kStages[k], percentile(r.samples[k], 0.95));
+    std::printf("\n");
+  }
+
+  if (!json_path.empty()) {
+    std::ofstream js(json_path);
+    js << "{\"results\": [";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const auto& r = rows[i];
+      js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << r.n_dynamic << ", \"runs\": " << r.runs
+         << ", \"success_rate\": " << num(r.runs ? double(r.successes) / r.runs : NAN)
+         << ", \"collisions\": " << r.collisions << ", \"time_to_goal_s\": " << num(mean(r.ttg))
+         << ", \"realtime_factor\": " << num(r.wall_s > 0 ? r.sim_s / r.wall_s : NAN) << ", \"latency_ms\": {";
+      for (int k = 0; k < kNumStages; ++k) {
+        js << (k ? ", " : "") << "\"" << kStages[k] << "\": " << num(percentile(r.samples[k], 0.5));
+      }
+      js << "}}";
+    }
+    js << "\n]}\n";
+    js.close();
+    if (!js) {
+      std::fprintf(stderr, "ucon-bench-nav: cannot write %s\n", json_path.c_str());
+      return 1;
+    }
+    std::printf("wrote %s\n", json_path.c_str());
+  }
+  return rc;
+}
