@@ -13,7 +13,7 @@ const std::vector<ChannelInfo>& all() {
       {kRobotPose, "ucon.robot_pose_t", 100.0, "simulator | odometry", "robot pose and velocity"},
       {kPerceptionObjects, "ucon.tracked_objects_t", 50.0, "perception",
        "tracked dynamic objects with 6x6 covariance"},
-      {kPerceptionStatic, "ucon.static_points_t", 10.0, "perception",
+      {kPerceptionStatic, "ucon.static_points_t", 50.0, "perception",
        "static points with sensor origin, world frame"},
       {kPerceptionStatus, "ucon.process_status_t", 1.0, "perception", "per-stage timings, counts"},
       {kNavGoal, "ucon.nav_goal_t", 0.0, "operator | deploy/ucon", "navigation goal"},
