@@ -37,12 +37,16 @@
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/simulator/params.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
+#include "../bench_util.hpp"
 
 #ifndef UCON_SOURCE_DIR
 #define UCON_SOURCE_DIR "."
 #endif
 
 namespace {
+
+using ucon::bench::percentile;
+using ucon::bench::split;
 
 namespace rp = ucon::replay;
 using Clock = std::chrono::steady_clock;
@@ -56,24 +60,6 @@ double threadCpuSeconds() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double pos = q * double(v.size() - 1);
-  const std::size_t i = std::size_t(std::floor(pos));
-  const std::size_t j = std::min(v.size() - 1, i + 1);
-  return v[i] + (v[j] - v[i]) * (pos - double(i));
 }
 
 std::string num(double x) {

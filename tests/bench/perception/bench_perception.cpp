@@ -26,8 +26,11 @@
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
 #include "ucon/simulator/simulator.hpp"
+#include "../bench_util.hpp"
 
 namespace {
+
+using ucon::bench::percentile;
 
 struct MethodResult {
   std::string method;
@@ -40,15 +43,6 @@ struct MethodResult {
   int64_t invalid_frames = 0;
   int64_t reassociations = 0;
 };
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const auto hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
 
 struct Method {
   std::string name;

@@ -17,29 +17,14 @@
 #include <vector>
 
 #include "closed_loop.hpp"
+#include "../bench_util.hpp"
 #include "ucon/config.hpp"
 #include "ucon/world/bench_generator.hpp"
 
 namespace {
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double pos = q * double(v.size() - 1);
-  const std::size_t i = std::size_t(std::floor(pos));
-  const std::size_t j = std::min(v.size() - 1, i + 1);
-  return v[i] + (v[j] - v[i]) * (pos - double(i));
-}
+using ucon::bench::percentile;
+using ucon::bench::split;
 
 std::string num(double x, int prec = 4) {
   if (!std::isfinite(x)) return "null";
