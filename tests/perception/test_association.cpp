@@ -87,3 +87,53 @@ TEST(AssociateObjects, GivenNoTracksOrNoDetectionsThenNothingIsMatched) {
   EXPECT_EQ(m.detection_to_track[0], -1);
   EXPECT_TRUE(associateNearest({}, {track(box(0, 0, 1, 1))}, p).detection_to_track.empty());
 }
+
+TEST(Mahalanobis2, GivenADiagonalCovarianceThenItMatchesTheClosedForm) {
+  AssociationParams p;
+  p.centroid_std = 0.1;
+  TrackView h = track(box(0, 0, 0.5, 0.5));
+  h.position_cov << 0.03, 0.0, 0.0, 0.08;  // + 0.01 -> (0.04, 0.09)
+  EXPECT_NEAR(mahalanobis2({box(0.4, 0, 0.5, 0.5)}, h, p), 0.16 / 0.04, 1e-12);
+  EXPECT_NEAR(mahalanobis2({box(0, 0.6, 0.5, 0.5)}, h, p), 0.36 / 0.09, 1e-12);
+  // A correlated covariance: r' S^-1 r with S = [[0.05, 0.02], [0.02, 0.05]] + 0.01 I.
+  h.position_cov << 0.05, 0.02, 0.02, 0.05;
+  const double a = 0.06, b = 0.02, det = a * a - b * b;
+  const double x = 0.3, y = -0.2;
+  EXPECT_NEAR(mahalanobis2({box(x, y, 0.5, 0.5)}, h, p), (a * x * x - 2 * b * x * y + a * y * y) / det, 1e-12);
+  // A degenerate or non-finite covariance never passes a gate.
+  h.position_cov << NAN, 0, 0, 0.01;
+  EXPECT_FALSE(std::isfinite(mahalanobis2({box(0, 0, 0.5, 0.5)}, h, p)));
+}
+
+TEST(AssociateObjects, GivenAMahalanobisGateThenAFarDetectionOfAConfidentTrackIsForbidden) {
+  AssociationParams p;
+  p.gate_sigma = 3.0;
+  p.centroid_std = 0.1;
+  TrackView h = track(box(0, 0, 0.5, 0.5));
+  h.position_cov = Eigen::Matrix2d::Identity() * 0.0025;  // sigma 5 cm -> total ~0.11 m
+  // 0.5 m away: inside the 1 m distance gate, but 4.5 sigma.
+  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, p).detection_to_track[0], -1);
+  // The same track after coasting (covariance 0.2 m^2): the pair is allowed.
+  h.position_cov = Eigen::Matrix2d::Identity() * 0.04;
+  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, p).detection_to_track[0], 0);
+  // Gate off: allowed whatever the covariance.
+  p.gate_sigma = 0.0;
+  h.position_cov = Eigen::Matrix2d::Identity() * 1e-6;
+  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, p).detection_to_track[0], 0);
+}
+
+TEST(AssociateObjects, GivenADistanceWeightThenTheNearerOfTwoGatedTracksWins) {
+  AssociationParams p;
+  p.max_distance = 3.0;
+  p.max_distance_cap = 3.0;
+  // Both tracks' boxes miss the detection's box; the far one (2.0 m) has the detection's
+  // size, the near one (0.9 m) a slightly different size, so eq. 1 alone prefers the far one.
+  const TrackView near_track = track(box(0.9, 0, 0.5, 0.9));
+  const TrackView far_track = track(box(-2.0, 0, 0.5, 0.5));
+  const std::vector<DetectionView> det{{box(0, 0, 0.5, 0.5)}};
+  p.distance_weight = 0.0;
+  ASSERT_LT(associationCost(det[0], far_track, p), associationCost(det[0], near_track, p));
+  EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 1);
+  p.distance_weight = 1.0;
+  EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 0);
+}

@@ -56,6 +56,16 @@ double associationCost(const DetectionView& c, const TrackView& h, const Associa
   return p.mu[0] * (1.0 - iou) + p.mu[1] * dir + p.mu[2] * size;
 }
 
+double mahalanobis2(const DetectionView& c, const TrackView& h, const AssociationParams& p) {
+  Eigen::Matrix2d S = h.position_cov;
+  S.diagonal().array() += p.centroid_std * p.centroid_std;
+  const Eigen::Vector2d r = c.box.center - h.box.center;
+  const double det = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
+  if (!(det > 0.0) || !std::isfinite(det)) return INFINITY;
+  // r' S^-1 r with the closed-form 2x2 inverse.
+  return (S(1, 1) * r.x() * r.x() - (S(0, 1) + S(1, 0)) * r.x() * r.y() + S(0, 0) * r.y() * r.y()) / det;
+}
+
 double distanceGate(const TrackView& h, const AssociationParams& p) {
   return std::min(p.max_distance_cap, p.max_distance + p.distance_growth * std::max(0.0, h.since_last));
 }
@@ -71,8 +81,11 @@ Matching associateObjects(const std::vector<DetectionView>& detections,
     for (int j = 0; j < cost.cols; ++j) {
       const double d = (detections[i].box.center - tracks[j].box.center).norm();
       if (!(d <= distanceGate(tracks[j], p))) continue;
+      if (p.gate_sigma > 0.0 && !(mahalanobis2(detections[i], tracks[j], p) <= p.gate_sigma * p.gate_sigma)) continue;
       const double f = associationCost(detections[i], tracks[j], p);
-      if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f;
+      // The gate applies to eq. 1; the distance term only ranks the pairs that pass it (a
+      // long-coasting track with a wide gate must not win over a nearer one).
+      if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f + p.distance_weight * d;
     }
   }
   const std::vector<int> a = solveAssignment(cost);

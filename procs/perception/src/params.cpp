@@ -47,6 +47,9 @@ void AssociationParams::read(ConfigReader& r) {
   r.read("max_distance_cap", max_distance_cap, 0.01, 50.0);
   r.read("direction_min_speed", direction_min_speed, 1e-3, 20.0);
   r.read("fapp_gate", fapp_gate, 0.01, 20.0);
+  r.read("gate_sigma", gate_sigma, 0.0, 100.0);
+  r.read("centroid_std", centroid_std, 1e-3, 10.0);
+  r.read("distance_weight", distance_weight, 0.0, 100.0);
 }
 
 void ReassociationParams::read(ConfigReader& r) {
@@ -70,6 +73,7 @@ void TrackParams::read(ConfigReader& r) {
   r.read("reid_speed", reid_speed, 0.0, 50.0);
   r.read("reid_margin", reid_margin, 0.0, 20.0);
   r.read("reid_window", reid_window, 0.0, 60.0);
+  r.read("reid_cross_speed", reid_cross_speed, 0.0, 20.0);
   r.read("merge_margin", merge_margin, 0.0, 10.0);
   r.read("tentative_max_age", tentative_max_age, 0.01, 100.0);
   r.read("tentative_max_misses", tentative_max_misses, 1, 1000);

@@ -470,6 +470,7 @@ std::vector<TrackView> PerceptionNode::trackViews(int64_t utime) const {
     t.has_velocity = tr.measured.size() >= 2;
     t.last_center = tr.measured.empty() ? t.box.center : tr.measured.back().second.head<2>();
     t.since_last = seconds(utime - tr.last_seen_utime);
+    t.position_cov = tr.kf.covariance().topLeftCorner<2, 2>();
     v.push_back(t);
   }
   return v;
@@ -554,6 +555,7 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
   t.size_z = (1.0 - p.size_smoothing) * t.size_z + p.size_smoothing * m.size_z;
   t.history = thin(m.points, params_.reassociation.max_history_points);
   t.last_seen_utime = utime;
+  t.seen_velocity = t.kf.state().segment<2>(3);
   ++t.hits;
   t.misses = 0;
   t.num_points = static_cast<int>(m.points.size());
@@ -573,14 +575,29 @@ void PerceptionNode::reidentify(Track& fresh, int64_t utime) {
   const TrackParams& p = params_.tracks;
   if (p.reid_speed <= 0.0 || fresh.measured.empty()) return;
   const Eigen::Vector2d first = fresh.first_center;
+  // Ranking: people mostly keep their line while hidden (they speed up, stop or turn back
+  // along it), so a candidate is scored by the displacement along its last heading over
+  // reid_speed*t + margin and across it over reid_cross_speed*t + margin (squared sum).
+  const auto score = [&](const Eigen::Vector2d& last, const Eigen::Vector2d& v, double dt) {
+    const Eigen::Vector2d r = first - last;
+    const double s_along = p.reid_speed * dt + p.reid_margin;
+    const double speed = v.norm();
+    if (p.reid_cross_speed <= 0.0 || speed < params_.tracks.confirm_min_speed || s_along <= 0.0)
+      return r.norm();
+    const Eigen::Vector2d u = v / speed;
+    const double along = r.dot(u), cross = u.x() * r.y() - u.y() * r.x();
+    const double s_cross = p.reid_cross_speed * dt + p.reid_margin;
+    return s_along * std::sqrt((along * along) / (s_along * s_along) + (cross * cross) / (s_cross * s_cross));
+  };
   Track* best = nullptr;
   double best_d = 0.0;
   for (auto& tr : tracks_) {
     if (&tr == &fresh || tr.state != TO::STATE_COASTING || tr.measured.empty()) continue;
     if (tr.last_seen_utime > fresh.created_utime) continue;  // both seen at once: two objects
     const double dt = seconds(fresh.created_utime - tr.last_seen_utime);
-    const double d = (first - tr.measured.back().second.head<2>()).norm();
-    if (d > p.reid_speed * dt + p.reid_margin) continue;
+    const Eigen::Vector2d last = tr.measured.back().second.head<2>();
+    if ((first - last).norm() > p.reid_speed * dt + p.reid_margin) continue;
+    const double d = score(last, tr.seen_velocity, dt);
     if (!best || d < best_d) best = &tr, best_d = d;
   }
   // Recently deleted confirmed tracks are candidates too (a coasting track may have been
@@ -589,8 +606,8 @@ void PerceptionNode::reidentify(Track& fresh, int64_t utime) {
   for (const auto& l : lost_tracks_) {
     if (l.last_seen_utime > fresh.created_utime) continue;
     const double dt = seconds(fresh.created_utime - l.last_seen_utime);
-    const double d = (first - l.last_center).norm();
-    if (d > p.reid_speed * dt + p.reid_margin) continue;
+    if ((first - l.last_center).norm() > p.reid_speed * dt + p.reid_margin) continue;
+    const double d = score(l.last_center, l.seen_velocity, dt);
     if ((!best && !best_lost) || d < best_d) best_lost = &l, best = nullptr, best_d = d;
   }
   if (best) {
@@ -682,7 +699,8 @@ void PerceptionNode::manageTracks(int64_t utime, const std::vector<char>& update
   // Deleted confirmed tracks are remembered for re-identification for a while.
   for (const auto& tr : tracks_) {
     if (tr.state != TO::STATE_DELETED || tr.reidentified || tr.confirmed_once == false || tr.measured.empty()) continue;
-    lost_tracks_.push_back({tr.id, tr.age_frames, tr.measured.back().second.head<2>(), tr.last_seen_utime});
+    lost_tracks_.push_back(
+        {tr.id, tr.age_frames, tr.measured.back().second.head<2>(), tr.seen_velocity, tr.last_seen_utime});
   }
   while (!lost_tracks_.empty() && seconds(utime - lost_tracks_.front().last_seen_utime) > p.reid_window)
     lost_tracks_.pop_front();

@@ -193,6 +193,15 @@ int main(int argc, char** argv) {
         const auto ev = m.acc.updateXY(gt_now, ucon::mot::hypothesesOf(*o.objects, eval), eval.threshold_m,
                                        &hidden);
         if (trace) {
+          // One state line per frame: every scored ground-truth object and every published track.
+          std::fprintf(trace, "%s frame %.2f", m.name.c_str(), sim.simTime());
+          for (std::size_t k = 0; k < gt_now.size(); ++k)
+            std::fprintf(trace, " g%lld %.2f %.2f%s", static_cast<long long>(gt_now[k].id), gt_now[k].x, gt_now[k].y,
+                         hidden[k] ? "h" : "");
+          for (const auto& t : o.objects->objects)
+            std::fprintf(trace, " t%lld %.2f %.2f %.2f %.2f a%d", static_cast<long long>(t.id), t.x, t.y, t.vx, t.vy,
+                         t.last_association);
+          std::fprintf(trace, "\n");
           for (int64_t id : ev.false_positives)
             for (const auto& t : o.objects->objects)
               if (t.id == id)

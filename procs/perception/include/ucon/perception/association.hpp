@@ -37,7 +37,12 @@ struct TrackView {
   bool has_velocity = false;       ///< false for a track with a single measurement
   Eigen::Vector2d last_center = Eigen::Vector2d::Zero();  ///< last measured centre [m]
   double since_last = 0.0;         ///< time since that measurement [s], >= 0
+  Eigen::Matrix2d position_cov = Eigen::Matrix2d::Zero();  ///< predicted x-y covariance [m^2]
 };
+
+/// Squared Mahalanobis distance of a detection centre from a track's predicted centre, with
+/// the track's predicted x-y covariance plus centroid_std^2 on the diagonal.
+double mahalanobis2(const DetectionView& c, const TrackView& h, const AssociationParams& p);
 
 /// Centre-distance gate of a track [m]: max_distance grown by distance_growth per second
 /// unseen (a coasting prediction drifts), capped at max_distance_cap.

@@ -52,6 +52,9 @@ struct AssociationParams {
   double max_distance_cap = 2.5;     ///< upper bound of the grown distance gate [m]
   double direction_min_speed = 0.3;  ///< below this speed the direction term fades out [m/s], > 0
   double fapp_gate = 0.8;            ///< FAPP baseline: greedy nearest-centroid gate [m]
+  double gate_sigma = 0.0;           ///< Mahalanobis gate on the predicted centre (Kalman covariance + centroid_std); 0 = off
+  double distance_weight = 0.0;      ///< cost per metre of centre distance added to eq. 1 for ranking (not gated)
+  double centroid_std = 0.15;        ///< [m] spread of a cluster centre around the body centre (partial views, merges)
   void read(ConfigReader& r);
 };
 
@@ -78,7 +81,8 @@ struct TrackParams {
   double new_track_separation = 0.7;  ///< no new track from a cluster this close to an existing track [m]
   double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
   double reid_margin = 0.5;         ///< [m]
-  double reid_window = 3.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
+  double reid_window = 6.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
+  double reid_cross_speed = 0.0;    ///< candidates are ranked with reid_speed along and this across their last heading [m/s]; 0 = by plain distance
   double merge_margin = 0.3;        ///< a matched cluster larger than the track's box by this is a merge [m]
   double tentative_max_age = 1.0;   ///< a tentative track older than this is deleted [s]
   int tentative_max_misses = 2;     ///< consecutive misses that delete a tentative track, >= 1

@@ -93,6 +93,7 @@ class PerceptionNode {
     kalman::ConstantVelocityKalman kf;
     int64_t created_utime = 0;
     int64_t last_seen_utime = 0;  ///< last measurement
+    Eigen::Vector2d seen_velocity = Eigen::Vector2d::Zero();  ///< filtered x-y velocity right after it [m/s]
     int hits = 0;
     int misses = 0;               ///< consecutive frames without a measurement
     int age_frames = 0;
@@ -168,6 +169,7 @@ class PerceptionNode {
     int64_t id = 0;
     int age_frames = 0;
     Eigen::Vector2d last_center = Eigen::Vector2d::Zero();
+    Eigen::Vector2d seen_velocity = Eigen::Vector2d::Zero();
     int64_t last_seen_utime = 0;
   };
   std::deque<LostTrack> lost_tracks_;
