@@ -169,6 +169,47 @@ TEST(EsdfMap, GivenRaysThroughAnOldObstacleWhenInsertedRepeatedlyThenItIsCleared
   EXPECT_FALSE(map.isOccupied(Eigen::Vector3d(0.05, 3.05, 0.25)));
 }
 
+TEST(EsdfMap, GivenRandomScansWhenInsertedBandOnlyThenTheSliceEqualsAFullInsertion) {
+  // band_only traces each ray only while it is in the height band: the band's cells, and so
+  // the slice, must come out exactly as with OctoMap's full insertion, including free space
+  // cleared by rays to returns far above the band and returns beyond the maximum range.
+  MapParams full = smallParams();
+  full.band_only = false;
+  MapParams band = full;
+  band.band_only = true;
+  EsdfMap a(full), b(band);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), elev(-0.3, 0.9), dist(0.5, 6.0);
+  for (int scan = 0; scan < 12; ++scan) {
+    const Eigen::Vector3d origin(0.3 * scan / 12.0, -0.2 + 0.03 * scan, 0.25);
+    std::vector<Eigen::Vector3f> pts;
+    for (int i = 0; i < 400; ++i) {
+      const double az = ang(rng), el = elev(rng), r = dist(rng);
+      pts.emplace_back(float(origin.x() + r * std::cos(el) * std::cos(az)),
+                       float(origin.y() + r * std::cos(el) * std::sin(az)), float(origin.z() + r * std::sin(el)));
+    }
+    // Scans alternate between two "worlds" so that cells get both hits and misses.
+    if (scan % 2) for (auto& q : pts) q.head<2>() *= 0.7f;
+    ASSERT_EQ(a.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
+    ASSERT_EQ(b.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
+  }
+  a.update(Eigen::Vector2d(0, 0));
+  b.update(Eigen::Vector2d(0, 0));
+  const auto& sa = a.slice();
+  const auto& sb = b.slice();
+  ASSERT_EQ(sa.nx, sb.nx);
+  ASSERT_EQ(sa.ny, sb.ny);
+  int occupied = 0, free_near = 0;
+  for (int iy = 0; iy < sa.ny; ++iy)
+    for (int ix = 0; ix < sa.nx; ++ix) {
+      ASSERT_EQ(a.cellDistance(ix, iy), b.cellDistance(ix, iy)) << "cell " << ix << "," << iy;
+      occupied += a.cellDistance(ix, iy) <= 0.0;
+      free_near += a.cellDistance(ix, iy) > 0.0 && a.cellDistance(ix, iy) < 1.0;
+    }
+  EXPECT_GT(occupied, 50);   // the comparison covers real obstacles ...
+  EXPECT_GT(free_near, 50);  // ... and distances
+}
+
 TEST(EsdfMap, GivenBadMessagesWhenInsertedThenTheyAreRejectedAndNaNPointsSkipped) {
   EsdfMap map(smallParams());
   ucon::static_points_t msg{};

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 #include "ucon/config.hpp"
@@ -22,6 +23,7 @@ void MapParams::read(ConfigReader& r) {
   r.read("max_distance", max_distance, 0.05, 20.0);
   r.read("prob_hit", prob_hit, 0.5, 1.0);
   r.read("prob_miss", prob_miss, 0.0, 0.5);
+  r.read("band_only", band_only);
   const std::string why = validate();
   if (!why.empty()) r.fail(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }
@@ -251,21 +253,69 @@ InsertStatus EsdfMap::insert(const static_points_t& msg, int64_t* skipped) {
 InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Eigen::Vector3f>& points,
                              double max_range, int64_t* skipped) {
   if (!origin.allFinite()) return InsertStatus::kBadOrigin;
-  octomap::Pointcloud cloud;
-  cloud.reserve(points.size());
+  Impl& m = *impl_;
+  const double range = (std::isfinite(max_range) && max_range > 0.0) ? max_range : m.params.max_range;
+  const octomap::point3d o(float(origin.x()), float(origin.y()), float(origin.z()));
   int64_t bad = 0;
+  if (!m.params.band_only) {
+    octomap::Pointcloud cloud;
+    cloud.reserve(points.size());
+    for (const auto& p : points) {
+      if (p.allFinite()) {
+        cloud.push_back(p.x(), p.y(), p.z());
+      } else {
+        ++bad;
+      }
+    }
+    if (skipped) *skipped += bad;
+    if (cloud.size() == 0) return InsertStatus::kEmpty;
+    m.tree.insertPointCloud(cloud, o, range, /*lazy_eval=*/false, /*discretize=*/true);
+    return InsertStatus::kOk;
+  }
+  // The same update as OctoMap's discretised insertPointCloud, restricted to the height band:
+  // each ray is traced only until it leaves the band's slab (one leaf of margin), because the
+  // cells beyond cannot change the band. The band's cells get exactly the updates of a full
+  // insertion (a clipped ray visits a prefix of the full ray's cells), at a fraction of the
+  // work: the sensor sits in the band and most returns lie above it.
+  octomap::OcTree& t = m.tree;
+  const double res = t.getResolution();
+  const double z_lo = t.keyToCoord(m.band_key_min) - 1.5 * res;
+  const double z_hi = t.keyToCoord(m.band_key_max) + 1.5 * res;
+  const bool origin_in_slab = o.z() >= z_lo && o.z() <= z_hi;
+  octomap::KeySet endpoints, free_cells, occupied_cells;
+  octomap::KeyRay ray;
+  std::size_t finite = 0;
   for (const auto& p : points) {
     if (!p.allFinite()) {
       ++bad;
       continue;
     }
-    cloud.push_back(p.x(), p.y(), p.z());
+    ++finite;
+    octomap::OcTreeKey k;
+    if (!t.coordToKeyChecked(octomap::point3d(p.x(), p.y(), p.z()), k)) continue;
+    if (!endpoints.insert(k).second) continue;  // discretised: one ray per endpoint leaf
+    const octomap::point3d q = t.keyToCoord(k);
+    const octomap::point3d d = q - o;
+    const double dist = d.norm();
+    const bool hit = dist <= range;
+    const octomap::point3d end = hit ? q : o + d * float(range / dist);
+    const bool end_in_slab = end.z() >= z_lo && end.z() <= z_hi;
+    octomap::point3d trace_to = end;
+    if (!end_in_slab && origin_in_slab) {
+      const double dz = double(end.z()) - o.z();
+      const double s = (dz > 0.0 ? z_hi - o.z() : z_lo - o.z()) / dz;  // in (0, 1): leaves the slab
+      trace_to = o + (end - o) * float(std::min(1.0, s + res / std::max(dist, res)));
+    }
+    if (t.computeRayKeys(o, trace_to, ray)) free_cells.insert(ray.begin(), ray.end());
+    if (hit && end_in_slab) occupied_cells.insert(k);
   }
   if (skipped) *skipped += bad;
-  if (cloud.size() == 0) return InsertStatus::kEmpty;
-  const octomap::point3d o(float(origin.x()), float(origin.y()), float(origin.z()));
-  const double range = (std::isfinite(max_range) && max_range > 0.0) ? max_range : impl_->params.max_range;
-  impl_->tree.insertPointCloud(cloud, o, range, /*lazy_eval=*/false, /*discretize=*/true);
+  if (finite == 0) return InsertStatus::kEmpty;
+  for (auto it = free_cells.begin(); it != free_cells.end();) {
+    it = occupied_cells.count(*it) ? free_cells.erase(it) : std::next(it);
+  }
+  for (const auto& k : free_cells) t.updateNode(k, false, false);
+  for (const auto& k : occupied_cells) t.updateNode(k, true, false);
   return InsertStatus::kOk;
 }
 

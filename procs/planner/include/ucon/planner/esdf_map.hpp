@@ -35,6 +35,10 @@ struct MapParams {
   double max_distance = 2.0;      ///< distances are clamped at this value [m], > resolution
   double prob_hit = 0.7;          ///< OctoMap hit probability, 0.5..1
   double prob_miss = 0.4;         ///< OctoMap miss probability, 0..0.5
+  /// Insert only points within one leaf of the height band: higher or lower returns cannot
+  /// change the band's occupancy, and the rays to the in-band returns clear its free space.
+  /// Cuts the ray-insertion work to the share of returns in the band. false = every point.
+  bool band_only = false;
 
   void read(ConfigReader& r);
   /// Empty when valid, otherwise "<key>: <why>".
