@@ -37,6 +37,8 @@
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/simulator/params.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
+#include "ucon/tracked_objects_t.hpp"
+#include "ucon/trajectory_t.hpp"
 #include "../bench_util.hpp"
 
 #ifndef UCON_SOURCE_DIR
@@ -125,13 +127,25 @@ class MissionAdapter : public rp::NodeAdapter {
 
   std::string name() const override { return "mission"; }
   std::vector<std::string> inputChannels() const override {
-    return {ucon::channels::kRobotPose, ucon::channels::kSimGroundTruth};
+    return {ucon::channels::kRobotPose, ucon::channels::kSimGroundTruth, ucon::channels::kPerceptionObjects,
+            ucon::channels::kPlannerTrajectory};
   }
   std::vector<std::string> outputChannels() const override { return {ucon::channels::kNavGoal}; }
   std::vector<std::pair<std::string, int64_t>> counters() const override { return {{"goals_sent", goals_sent_}}; }
 
   rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
                       std::vector<rp::OutputMessage>* out) override {
+    if (channel == ucon::channels::kPerceptionObjects) {
+      // Kept only to say, at a collision, whether perception tracked what was hit.
+      if (!collided_ && !rp::decodeExact(data, size, &last_objects_)) return rp::FeedResult::kDecodeError;
+      return rp::FeedResult::kHandled;
+    }
+    if (channel == ucon::channels::kPlannerTrajectory) {
+      ucon::trajectory_t t;
+      if (!rp::decodeExact(data, size, &t)) return rp::FeedResult::kDecodeError;
+      if (!collided_) last_plan_ = "plan status " + std::to_string(int(t.status)) + (t.message.empty() ? "" : " (" + t.message + ")");
+      return rp::FeedResult::kHandled;
+    }
     if (channel == ucon::channels::kRobotPose) {
       ucon::robot_pose_t m;
       if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
@@ -156,13 +170,26 @@ class MissionAdapter : public rp::NodeAdapter {
             hit = &o;
           }
         }
-        char buf[96];
+        char buf[256];
         if (hit && best < 0.05) {
-          std::snprintf(buf, sizeof(buf), "mover %lld (%.2f m/s)", static_cast<long long>(hit->id),
-                        std::hypot(hit->vx, hit->vy));
+          // The track nearest to the mover, if any: was it seen, and how well?
+          const ucon::tracked_object_t* tr = nullptr;
+          double td = INFINITY;
+          for (const auto& t : last_objects_.objects) {
+            const double d = std::hypot(t.x - hit->x, t.y - hit->y);
+            if (d < td) td = d, tr = &t;
+          }
+          char trk[128];
+          if (tr && td < 1.0)
+            std::snprintf(trk, sizeof(trk), "tracked %.2f m off, v err %.2f m/s, state %d", td,
+                          std::hypot(tr->vx - hit->vx, tr->vy - hit->vy), int(tr->state));
+          else
+            std::snprintf(trk, sizeof(trk), "NOT tracked (nearest track %.1f m)", td);
+          std::snprintf(buf, sizeof(buf), "mover %lld (%.2f m/s, r %.2f) %s; %s", static_cast<long long>(hit->id),
+                        std::hypot(hit->vx, hit->vy), hit->radius, trk, last_plan_.c_str());
           hit_mover_ = true;
         } else {
-          std::snprintf(buf, sizeof(buf), "static");
+          std::snprintf(buf, sizeof(buf), "static; %s", last_plan_.c_str());
         }
         collision_with_ = buf;
         robot_speed_at_hit_ = std::hypot(m.robot_vx, m.robot_vy);
@@ -186,6 +213,8 @@ class MissionAdapter : public rp::NodeAdapter {
   ucon::mission::MissionNode node_;
   bool reached_all_ = false, collided_ = false, hit_mover_ = false;
   std::string collision_with_;
+  ucon::tracked_objects_t last_objects_;
+  std::string last_plan_;
   double robot_speed_at_hit_ = NAN;
   int64_t goals_sent_ = 0;
 };
