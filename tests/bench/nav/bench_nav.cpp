@@ -37,6 +37,8 @@
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/simulator/params.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
+#include "ucon/sim_ground_truth_t.hpp"
+#include "ucon/static_points_t.hpp"
 #include "ucon/tracked_objects_t.hpp"
 #include "ucon/trajectory_t.hpp"
 #include "../bench_util.hpp"
@@ -118,6 +120,113 @@ class TimedAdapter : public rp::NodeAdapter {
   bool on_input_;
 };
 
+/// Diagnosis: wraps perception. --oracle-objects drops its PERCEPTION_OBJECTS and publishes the
+/// simulator's ground-truth movers in range instead (exact position and velocity, small fixed
+/// covariance); --oracle-static removes from PERCEPTION_STATIC every point within 0.25 m of a
+/// mover's body. Runs then show what planning and control do with perfect tracking and/or a
+/// static map that movers never pollute.
+class OracleObjectsAdapter : public rp::NodeAdapter {
+ public:
+  OracleObjectsAdapter(rp::NodeAdapter* inner, double range, bool replace_objects, bool clean_static)
+      : inner_(inner), range_(range), replace_objects_(replace_objects), clean_static_(clean_static) {}
+  std::string name() const override { return inner_->name(); }
+  std::vector<std::string> inputChannels() const override {
+    auto v = inner_->inputChannels();
+    v.push_back(ucon::channels::kSimGroundTruth);
+    return v;
+  }
+  std::vector<std::string> outputChannels() const override { return inner_->outputChannels(); }
+  std::vector<std::pair<std::string, int64_t>> counters() const override { return inner_->counters(); }
+  rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                      std::vector<rp::OutputMessage>* out) override {
+    if (channel != ucon::channels::kSimGroundTruth) {
+      const std::size_t before = out->size();
+      const rp::FeedResult r = inner_->feed(channel, data, size, out);
+      if (replace_objects_)
+        out->erase(std::remove_if(out->begin() + static_cast<std::ptrdiff_t>(before), out->end(),
+                                  [](const rp::OutputMessage& m) { return m.channel == ucon::channels::kPerceptionObjects; }),
+                   out->end());
+      for (std::size_t i = before; i < out->size(); ++i) {
+        auto& m = (*out)[i];
+        if (m.channel != ucon::channels::kPerceptionStatic || last_gt_.objects.empty()) continue;
+        ucon::static_points_t s;
+        if (!rp::decodeExact(m.data.data(), m.data.size(), &s)) continue;
+        // Leak: static points on a mover's body (within 0.1 m of its surface), movers within
+        // 15 m of the robot. Each such point paints a ghost obstacle into the planner's map.
+        {
+          std::vector<const ucon::sim_object_t*> near_movers;
+          for (const auto& g : last_gt_.objects)
+            if (std::hypot(g.x - last_gt_.robot_x, g.y - last_gt_.robot_y) < 15.0) near_movers.push_back(&g);
+          for (int k = 0; k < s.num_points; ++k)
+            for (const auto* g : near_movers)
+              if (std::hypot(s.x[k] - g->x, s.y[k] - g->y) < g->radius + 0.1) {
+                ++leaked_points_;
+                break;
+              }
+          static_points_ += s.num_points;
+        }
+        if (clean_static_) {
+          ucon::static_points_t c = s;
+          c.x.clear(), c.y.clear(), c.z.clear();
+          for (int k = 0; k < s.num_points; ++k) {
+            bool near = false;
+            for (const auto& g : last_gt_.objects)
+              near = near || std::hypot(s.x[k] - g.x, s.y[k] - g.y) < g.radius + 0.25;
+            if (near) continue;
+            c.x.push_back(s.x[k]), c.y.push_back(s.y[k]), c.z.push_back(s.z[k]);
+          }
+          c.num_points = static_cast<int32_t>(c.x.size());
+          m = rp::encodeOutput(ucon::channels::kPerceptionStatic, c);
+        }
+      }
+      return r;
+    }
+    ucon::sim_ground_truth_t& g = last_gt_;
+    if (!rp::decodeExact(data, size, &g)) return rp::FeedResult::kDecodeError;
+    if (!replace_objects_) return rp::FeedResult::kHandled;
+    ucon::tracked_objects_t o{};
+    o.utime = g.utime;
+    o.seq = seq_++;
+    o.valid = true;
+    o.frame_seq = -1;
+    o.frame_id = "world";
+    for (const auto& s : g.objects) {
+      if (std::hypot(s.x - g.robot_x, s.y - g.robot_y) > range_) continue;
+      ucon::tracked_object_t t{};
+      t.id = s.id;
+      t.state = ucon::tracked_object_t::STATE_CONFIRMED;
+      t.last_association = ucon::tracked_object_t::ASSOC_OBJECT;
+      t.x = s.x;
+      t.y = s.y;
+      t.z = 0.5 * s.height;
+      t.vx = s.vx;
+      t.vy = s.vy;
+      t.cov_size = 36;
+      t.cov.assign(36, 0.0);
+      for (int k = 0; k < 6; ++k) t.cov[static_cast<std::size_t>(k * 7)] = k < 3 ? 0.05 * 0.05 : 0.1 * 0.1;
+      t.size_x = t.size_y = 2.0 * s.radius;
+      t.size_z = s.height;
+      t.num_points = 10;
+      t.age_frames = 100;
+      o.objects.push_back(t);
+    }
+    o.num_objects = static_cast<int32_t>(o.objects.size());
+    out->push_back(rp::encodeOutput(ucon::channels::kPerceptionObjects, o));
+    return rp::FeedResult::kHandled;
+  }
+
+ private:
+  rp::NodeAdapter* inner_;
+  double range_;
+  bool replace_objects_, clean_static_;
+ public:
+  int64_t leaked_points_ = 0, static_points_ = 0;
+
+ private:
+  ucon::sim_ground_truth_t last_gt_;
+  int64_t seq_ = 0;
+};
+
 /// The mission in the loop: ROBOT_POSE and SIM_GROUND_TRUTH in, NAV_GOAL out (the scenario's
 /// goals in order, re-sent every resend_period_s until reached, as ucon-mission does).
 class MissionAdapter : public rp::NodeAdapter {
@@ -159,6 +268,17 @@ class MissionAdapter : public rp::NodeAdapter {
       ucon::sim_ground_truth_t m;
       if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
       node_.onGroundTruth(m);
+      // Tracking recall near the robot: movers within 10 m (and visible, where the simulator says)
+      // with a track within 0.7 m.
+      for (const auto& o : m.objects) {
+        if (o.visible <= 0.3 || std::hypot(o.x - m.robot_x, o.y - m.robot_y) > 10.0) continue;  // NaN: not computed
+        ++recall_total_;
+        for (const auto& t : last_objects_.objects)
+          if (std::hypot(t.x - o.x, t.y - o.y) < 0.7) {
+            ++recall_hit_;
+            break;
+          }
+      }
       if (!collided_ && (m.collision || m.num_collisions > 0)) {
         // What was hit: the nearest mover if the robot touches it, else a static obstacle.
         double best = INFINITY;
@@ -212,6 +332,11 @@ class MissionAdapter : public rp::NodeAdapter {
  private:
   ucon::mission::MissionNode node_;
   bool reached_all_ = false, collided_ = false, hit_mover_ = false;
+
+ public:
+  int64_t recall_total_ = 0, recall_hit_ = 0;
+
+ private:
   std::string collision_with_;
   ucon::tracked_objects_t last_objects_;
   std::string last_plan_;
@@ -243,6 +368,8 @@ struct RunResult {
   double dist_start_goal = 0.0, dist_left = 0.0;
   std::map<std::string, int64_t> messages;
   int64_t wheel_cmds_applied = 0;
+  int64_t leaked_static = 0, static_points = 0;
+  double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m  ///< PERCEPTION_STATIC points on movers' bodies / all
   StageTimes stages[kNumStages];
   bool pipelineBroken(std::string* why) const {
     auto count = [&](const char* ch) {
@@ -259,7 +386,11 @@ struct RunResult {
   }
 };
 
-RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeout_s) {
+struct Oracle {
+  bool objects = false, static_map = false;
+};
+
+RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeout_s, Oracle oracle) {
   RunResult res;
   res.n_dynamic = n_dynamic;
   res.seed = seed;
@@ -285,14 +416,22 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   } kNodes[] = {{"perception", 1, ucon::channels::kLidarPoints, true},
                 {"planner", 2, ucon::channels::kPlannerTrajectory, false},
                 {"base_controller", 3, ucon::channels::kBaseWheelCmd, false}};
+  OracleObjectsAdapter* perception_wrap = nullptr;
   for (const auto& n : kNodes) {
     auto a = rp::makeAdapter(n.node, setup.node_yaml.at(n.node), setup.config_dir + "/" + n.node + ".yaml", &err);
     if (!a) {
       res.error = err;
       return res;
     }
-    timed.push_back(std::make_unique<TimedAdapter>(a.get(), &res.stages[n.stage], n.unit, n.on_input));
+    rp::NodeAdapter* inner = a.get();
     owned.push_back(std::move(a));
+    if (n.stage == 1) {
+      auto w = std::make_unique<OracleObjectsAdapter>(inner, 12.0, oracle.objects, oracle.static_map);
+      perception_wrap = w.get();
+      owned.push_back(std::move(w));
+      inner = owned.back().get();
+    }
+    timed.push_back(std::make_unique<TimedAdapter>(inner, &res.stages[n.stage], n.unit, n.on_input));
   }
   MissionAdapter mission(setup.mission, sc->robot.goals, timeout_s);
 
@@ -327,6 +466,11 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   const rp::RecordSummary s =
       rp::recordSimulatedRun(cfg, loop, [](const std::string&, int64_t, const std::vector<uint8_t>&) {});
   res.wall_s = msSince(t0) * 1e-3;
+  res.recall = mission.recall_total_ ? double(mission.recall_hit_) / double(mission.recall_total_) : NAN;
+  if (perception_wrap) {
+    res.leaked_static = perception_wrap->leaked_points_;
+    res.static_points = perception_wrap->static_points_;
+  }
   res.cpu_s = threadCpuSeconds() - cpu0;
   res.collision_with = mission.collisionWith();
   res.hit_mover = mission.hitMover();
@@ -375,6 +519,7 @@ int main(int argc, char** argv) {
   std::string densities = "50,80,110";
   int jobs = 1;
   bool quick = false, verbose = false;
+  Oracle oracle;
   double timeout_s = 120.0;
   Setup setup;
   setup.config_dir = std::string(UCON_SOURCE_DIR) + "/deploy/config";
@@ -392,6 +537,10 @@ int main(int argc, char** argv) {
                  "base_controller.yaml, mission.yaml");
   app.add_option("--scenario-dir", setup.scenario_dir, "folder of the builtin scenarios");
   app.add_flag("--verbose", verbose, "one line per run as it ends");
+  app.add_flag("--oracle-objects", oracle.objects,
+               "diagnosis: the planner gets the ground-truth movers within 12 m instead of perception's tracks");
+  app.add_flag("--oracle-static", oracle.static_map,
+               "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
   CLI11_PARSE(app, argc, argv);
   if (quick) {
     if (app.count("--seeds") == 0) seeds = 1;
@@ -448,7 +597,7 @@ int main(int argc, char** argv) {
   const auto bench_t0 = Clock::now();
   auto worker = [&] {
     for (std::size_t i = next++; i < tasks.size(); i = next++) {
-      results[i] = runOne(setup, tasks[i].n_dynamic, tasks[i].seed, timeout_s);
+      results[i] = runOne(setup, tasks[i].n_dynamic, tasks[i].seed, timeout_s, oracle);
       const auto& r = results[i];
       if (verbose || !r.ok) {
         std::lock_guard<std::mutex> lock(print_mutex);
@@ -456,13 +605,13 @@ int main(int argc, char** argv) {
           std::printf("N_d=%3d seed=%4llu ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed, r.error.c_str());
         } else {
           std::printf("N_d=%3d seed=%4llu %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
-                      "clear=%5.2fm frames=%lld plans=%lld | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s\n",
+                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s\n",
                       r.n_dynamic, (unsigned long long)r.seed,
                       r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
                       r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
                       (long long)(r.messages.count(ucon::channels::kLidarPoints) ? r.messages.at(ucon::channels::kLidarPoints) : 0),
                       (long long)(r.messages.count(ucon::channels::kPlannerTrajectory) ? r.messages.at(ucon::channels::kPlannerTrajectory) : 0),
-                      percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
+                      r.sim_s > 0 ? r.leaked_static / r.sim_s : NAN, r.recall, percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
                       percentile(r.stages[2].samples_ms, 0.5), percentile(r.stages[3].samples_ms, 0.5),
                       r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, r.collision ? " | hit " : "",
                       r.collision ? (r.collision_with + " at robot speed " + num(r.robot_speed_at_hit) + " m/s").c_str() : "");
