@@ -181,7 +181,8 @@ TEST(EsdfMap, GivenRandomScansWhenInsertedBandOnlyThenTheSliceEqualsAFullInserti
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> ang(-M_PI, M_PI), elev(-0.3, 0.9), dist(0.5, 6.0);
   for (int scan = 0; scan < 12; ++scan) {
-    const Eigen::Vector3d origin(0.3 * scan / 12.0, -0.2 + 0.03 * scan, 0.25);
+    // The last scans come from above the band (every ray enters it from outside).
+    const Eigen::Vector3d origin(0.3 * scan / 12.0, -0.2 + 0.03 * scan, scan < 10 ? 0.25 : 1.0);
     std::vector<Eigen::Vector3f> pts;
     for (int i = 0; i < 400; ++i) {
       const double az = ang(rng), el = elev(rng), r = dist(rng);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <limits>
 
@@ -118,6 +119,9 @@ struct EsdfMap::Impl {
   std::vector<uint8_t> occupied;
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
+  std::vector<uint64_t> scratch_endpoints, scratch_free, scratch_occupied;  // band-only insertion
+  std::vector<uint32_t> stamp_free, stamp_occupied;  // ... its per-cell dedup stamps
+  uint32_t stamp_gen = 0;
   std::vector<std::pair<octomap::key_type, octomap::key_type>> dirty_columns;
   int64_t incremental = 0;
   int64_t rebuilds = 0;
@@ -282,8 +286,20 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   const double z_lo = t.keyToCoord(m.band_key_min) - 1.5 * res;
   const double z_hi = t.keyToCoord(m.band_key_max) + 1.5 * res;
   const bool origin_in_slab = o.z() >= z_lo && o.z() <= z_hi;
-  octomap::KeySet endpoints, free_cells, occupied_cells;
-  octomap::KeyRay ray;
+  // Keys packed into 48 bits and kept in sorted vectors: hash sets (OctoMap's KeySet) spend
+  // most of an insertion allocating nodes.
+  const auto pack = [](const octomap::OcTreeKey& k) {
+    return (uint64_t(k[0]) << 32) | (uint64_t(k[1]) << 16) | uint64_t(k[2]);
+  };
+  const auto unpack = [](uint64_t v) {
+    return octomap::OcTreeKey(octomap::key_type(v >> 32), octomap::key_type(v >> 16), octomap::key_type(v));
+  };
+  std::vector<uint64_t>& endpoints = m.scratch_endpoints;
+  std::vector<uint64_t>& free_cells = m.scratch_free;
+  std::vector<uint64_t>& occupied_cells = m.scratch_occupied;
+  endpoints.clear();
+  free_cells.clear();
+  occupied_cells.clear();
   std::size_t finite = 0;
   for (const auto& p : points) {
     if (!p.allFinite()) {
@@ -292,30 +308,80 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     }
     ++finite;
     octomap::OcTreeKey k;
-    if (!t.coordToKeyChecked(octomap::point3d(p.x(), p.y(), p.z()), k)) continue;
-    if (!endpoints.insert(k).second) continue;  // discretised: one ray per endpoint leaf
+    if (t.coordToKeyChecked(octomap::point3d(p.x(), p.y(), p.z()), k)) endpoints.push_back(pack(k));
+  }
+  // Discretised like OctoMap's insertion: one ray per endpoint leaf, to the leaf's centre.
+  std::sort(endpoints.begin(), endpoints.end());
+  endpoints.erase(std::unique(endpoints.begin(), endpoints.end()), endpoints.end());
+  if (skipped) *skipped += bad;
+  if (finite == 0) return InsertStatus::kEmpty;
+  // Each cell is updated once per insertion (occupied wins over free, as in OctoMap). Cells
+  // are deduplicated on a stamp grid around the origin: no hashing, no sorting.
+  const octomap::OcTreeKey ok = t.coordToKey(o);
+  const int H = int(std::ceil(range / res)) + 2;
+  const int kz0 = int(t.coordToKey(z_lo)) - 1, kz1 = int(t.coordToKey(z_hi)) + 1;
+  const int side = 2 * H + 1, nz = std::max(1, kz1 - kz0 + 1);
+  const std::size_t cells = std::size_t(side) * std::size_t(side) * std::size_t(nz);
+  if (m.stamp_free.size() < cells) {
+    m.stamp_free.assign(cells, 0);
+    m.stamp_occupied.assign(cells, 0);
+    m.stamp_gen = 0;
+  }
+  if (++m.stamp_gen == 0) {  // wrapped: start over
+    std::fill(m.stamp_free.begin(), m.stamp_free.end(), 0);
+    std::fill(m.stamp_occupied.begin(), m.stamp_occupied.end(), 0);
+    m.stamp_gen = 1;
+  }
+  const uint32_t gen = m.stamp_gen;
+  const auto local = [&](const octomap::OcTreeKey& c) -> long {
+    const int x = int(c[0]) - int(ok[0]) + H, y = int(c[1]) - int(ok[1]) + H, z = int(c[2]) - kz0;
+    if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= nz) return -1;
+    return (long(x) * side + y) * nz + z;
+  };
+  // Ray end of each endpoint leaf (its centre, cut at the range and where it leaves the slab);
+  // the endpoints that are hits inside the slab become occupied.
+  const auto rayEnd = [&](const octomap::OcTreeKey& k, bool* occupied) {
     const octomap::point3d q = t.keyToCoord(k);
     const octomap::point3d d = q - o;
     const double dist = d.norm();
     const bool hit = dist <= range;
     const octomap::point3d end = hit ? q : o + d * float(range / dist);
     const bool end_in_slab = end.z() >= z_lo && end.z() <= z_hi;
-    octomap::point3d trace_to = end;
-    if (!end_in_slab && origin_in_slab) {
-      const double dz = double(end.z()) - o.z();
-      const double s = (dz > 0.0 ? z_hi - o.z() : z_lo - o.z()) / dz;  // in (0, 1): leaves the slab
-      trace_to = o + (end - o) * float(std::min(1.0, s + res / std::max(dist, res)));
+    *occupied = hit && end_in_slab;
+    if (end_in_slab || !origin_in_slab) return end;
+    const double dz = double(end.z()) - o.z();
+    const double s = (dz > 0.0 ? z_hi - o.z() : z_lo - o.z()) / dz;  // in (0, 1): leaves the slab
+    return o + (end - o) * float(std::min(1.0, s + res / std::max(dist, res)));
+  };
+  for (const uint64_t packed : endpoints) {
+    bool occ = false;
+    rayEnd(unpack(packed), &occ);
+    if (!occ) continue;
+    occupied_cells.push_back(packed);  // sorted and unique: a subset of the endpoints
+    const long i = local(unpack(packed));
+    if (i >= 0) m.stamp_occupied[std::size_t(i)] = gen;
+  }
+  octomap::KeyRay ray;
+  for (const uint64_t packed : endpoints) {
+    bool occ = false;
+    const octomap::point3d trace_to = rayEnd(unpack(packed), &occ);
+    if (!t.computeRayKeys(o, trace_to, ray)) continue;
+    for (const auto& c : ray) {
+      const long i = local(c);
+      if (i < 0) {
+        free_cells.push_back(pack(c));  // outside the grid (origin outside the slab): below
+        continue;
+      }
+      if (m.stamp_occupied[std::size_t(i)] == gen || m.stamp_free[std::size_t(i)] == gen) continue;
+      m.stamp_free[std::size_t(i)] = gen;
+      t.updateNode(c, false, false);
     }
-    if (t.computeRayKeys(o, trace_to, ray)) free_cells.insert(ray.begin(), ray.end());
-    if (hit && end_in_slab) occupied_cells.insert(k);
   }
-  if (skipped) *skipped += bad;
-  if (finite == 0) return InsertStatus::kEmpty;
-  for (auto it = free_cells.begin(); it != free_cells.end();) {
-    it = occupied_cells.count(*it) ? free_cells.erase(it) : std::next(it);
-  }
-  for (const auto& k : free_cells) t.updateNode(k, false, false);
-  for (const auto& k : occupied_cells) t.updateNode(k, true, false);
+  std::sort(free_cells.begin(), free_cells.end());
+  free_cells.erase(std::unique(free_cells.begin(), free_cells.end()), free_cells.end());
+  for (const uint64_t k : free_cells)
+    if (!std::binary_search(occupied_cells.begin(), occupied_cells.end(), k)) t.updateNode(unpack(k), false, false);
+  for (const uint64_t k : occupied_cells) t.updateNode(unpack(k), true, false);
   return InsertStatus::kOk;
 }
 
