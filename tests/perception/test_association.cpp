@@ -137,3 +137,29 @@ TEST(AssociateObjects, GivenADistanceWeightThenTheNearerOfTwoGatedTracksWins) {
   p.distance_weight = 1.0;
   EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 0);
 }
+
+TEST(ReidentificationScore, GivenTwoCandidatesThenTheOneWhoseLineThePersonKeptWinsOverTheNearerOne) {
+  TrackParams p;
+  p.reid_speed = 1.8;
+  p.reid_margin = 0.5;
+  p.reid_cross_speed = 0.3;
+  p.confirm_min_speed = 0.15;
+  const Eigen::Vector2d first(3.0, 2.0);
+  const double dt = 1.0;
+  // A: walked along y at x = 3, last seen 2 m back along its line (heading +y).
+  const double a = reidentificationScore(first, {3.0, 0.0}, {0.0, 1.2}, dt, p);
+  // B: walked along y at x = 3.7, last seen 1.1 m away but 0.7 m off its line.
+  const double b = reidentificationScore(first, {3.7, 2.9}, {0.0, -1.2}, dt, p);
+  EXPECT_LT((first - Eigen::Vector2d(3.7, 2.9)).norm(), (first - Eigen::Vector2d(3.0, 0.0)).norm());
+  EXPECT_LT(a, b);
+  // Closed form for A: along 2 over 2.3, cross 0 -> 2.3 * (2 / 2.3) = 2.
+  EXPECT_NEAR(a, 2.0, 1e-12);
+  // B: along -0.9 over 2.3, cross 0.7 over 0.8 -> 2.3 * sqrt((0.9/2.3)^2 + (0.7/0.8)^2).
+  EXPECT_NEAR(b, 2.3 * std::sqrt(std::pow(0.9 / 2.3, 2) + std::pow(0.7 / 0.8, 2)), 1e-12);
+  // Turning back along the line scores like going on (people reverse at walk ends).
+  EXPECT_NEAR(reidentificationScore({3.0, -2.0}, {3.0, 0.0}, {0.0, 1.2}, dt, p), a, 1e-12);
+  // No heading (slow) or the cross term off: plain distance.
+  EXPECT_NEAR(reidentificationScore(first, {3.7, 2.9}, {0.0, 0.1}, dt, p), std::hypot(0.7, 0.9), 1e-12);
+  p.reid_cross_speed = 0.0;
+  EXPECT_NEAR(reidentificationScore(first, {3.7, 2.9}, {0.0, -1.2}, dt, p), std::hypot(0.7, 0.9), 1e-12);
+}

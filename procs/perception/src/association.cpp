@@ -66,6 +66,18 @@ double mahalanobis2(const DetectionView& c, const TrackView& h, const Associatio
   return (S(1, 1) * r.x() * r.x() - (S(0, 1) + S(1, 0)) * r.x() * r.y() + S(0, 0) * r.y() * r.y()) / det;
 }
 
+double reidentificationScore(const Eigen::Vector2d& first, const Eigen::Vector2d& last,
+                             const Eigen::Vector2d& seen_velocity, double dt, const TrackParams& p) {
+  const Eigen::Vector2d r = first - last;
+  const double s_along = p.reid_speed * dt + p.reid_margin;
+  const double speed = seen_velocity.norm();
+  if (p.reid_cross_speed <= 0.0 || !(speed >= p.confirm_min_speed) || !(s_along > 0.0)) return r.norm();
+  const Eigen::Vector2d u = seen_velocity / speed;
+  const double along = r.dot(u), cross = u.x() * r.y() - u.y() * r.x();
+  const double s_cross = p.reid_cross_speed * dt + p.reid_margin;
+  return s_along * std::sqrt((along * along) / (s_along * s_along) + (cross * cross) / (s_cross * s_cross));
+}
+
 double distanceGate(const TrackView& h, const AssociationParams& p) {
   return std::min(p.max_distance_cap, p.max_distance + p.distance_growth * std::max(0.0, h.since_last));
 }

@@ -575,19 +575,8 @@ void PerceptionNode::reidentify(Track& fresh, int64_t utime) {
   const TrackParams& p = params_.tracks;
   if (p.reid_speed <= 0.0 || fresh.measured.empty()) return;
   const Eigen::Vector2d first = fresh.first_center;
-  // Ranking: people mostly keep their line while hidden (they speed up, stop or turn back
-  // along it), so a candidate is scored by the displacement along its last heading over
-  // reid_speed*t + margin and across it over reid_cross_speed*t + margin (squared sum).
   const auto score = [&](const Eigen::Vector2d& last, const Eigen::Vector2d& v, double dt) {
-    const Eigen::Vector2d r = first - last;
-    const double s_along = p.reid_speed * dt + p.reid_margin;
-    const double speed = v.norm();
-    if (p.reid_cross_speed <= 0.0 || speed < params_.tracks.confirm_min_speed || s_along <= 0.0)
-      return r.norm();
-    const Eigen::Vector2d u = v / speed;
-    const double along = r.dot(u), cross = u.x() * r.y() - u.y() * r.x();
-    const double s_cross = p.reid_cross_speed * dt + p.reid_margin;
-    return s_along * std::sqrt((along * along) / (s_along * s_along) + (cross * cross) / (s_cross * s_cross));
+    return reidentificationScore(first, last, v, dt, p);
   };
   Track* best = nullptr;
   double best_d = 0.0;

@@ -56,6 +56,15 @@ double distanceGate(const TrackView& h, const AssociationParams& p);
 /// scaled by min(1, min(|v_c|, |v_h|) / direction_min_speed), and is 0 without a velocity.
 double associationCost(const DetectionView& c, const TrackView& h, const AssociationParams& p);
 
+/// Re-identification ranking (lower is better) of a candidate last seen at `last` with velocity
+/// `seen_velocity`, `dt` seconds before a new track appeared at `first`. People mostly keep
+/// their line while hidden (they speed up, stop or turn back along it): the displacement is
+/// measured along the last heading over reid_speed*dt + reid_margin and across it over
+/// reid_cross_speed*dt + reid_margin, and the squared sum is scaled back to metres. Without a
+/// heading (slower than confirm_min_speed) or with reid_cross_speed 0: the plain distance.
+double reidentificationScore(const Eigen::Vector2d& first, const Eigen::Vector2d& last,
+                             const Eigen::Vector2d& seen_velocity, double dt, const TrackParams& p);
+
 /// Matching result: for each detection the matched track index, or -1; and the reverse.
 struct Matching {
   std::vector<int> detection_to_track;
