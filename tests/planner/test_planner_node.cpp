@@ -381,3 +381,26 @@ TEST(PlannerNode, GivenObstaclesClosingInFromAllSidesThenNothingPassesTheCheckAn
   const auto& pp = f.node->currentTrajectory();
   EXPECT_LT(pp.sampleRelative(pp.duration()).position.norm(), 1e-9);
 }
+
+TEST(PlannerNode, GivenAConfirmedMoverOnGhostCellsThenTheyAreClearedButNotUnderSlowOrTentativeTracks) {
+  // Ghost obstacles: a mover's points that leaked into the static map. A confirmed track at
+  // least clear_under_speed fast clears the band under its body; a slow or tentative one
+  // (maybe a false track on real structure) does not.
+  Fixture f(false);
+  ASSERT_GT(f.params.objects.clear_under_speed, 0.0);
+  f.node->map().addCylinder(3.0, 0.0, 0.25);   // ghost under the moving track
+  f.node->map().addCylinder(3.0, 3.0, 0.25);   // under a slow track
+  f.node->map().addCylinder(3.0, -3.0, 0.25);  // under a tentative track
+  f.node->notifyMapChanged();
+  auto moving = object(1, 3.0, 0.0, 0.0, 1.0);
+  auto slow = object(2, 3.0, 3.0, 0.0, 0.5 * f.params.objects.clear_under_speed);
+  auto tentative = object(3, 3.0, -3.0, 0.0, 1.0);
+  tentative.state = tracked_object_t::STATE_TENTATIVE;
+  f.node->onPose(pose(kT0, 0, 0));
+  f.node->onObjects(objects(kT0, {moving, slow, tentative}));
+  const double z = 0.5 * (f.params.map.band_z_min + f.params.map.band_z_max);
+  EXPECT_FALSE(f.node->map().isOccupied(Eigen::Vector3d(3.0, 0.0, z)));
+  EXPECT_TRUE(f.node->map().isOccupied(Eigen::Vector3d(3.0, 3.0, z)));
+  EXPECT_TRUE(f.node->map().isOccupied(Eigen::Vector3d(3.0, -3.0, z)));
+  EXPECT_EQ(f.report.counter("cleared_under_movers"), 1);
+}

@@ -393,7 +393,7 @@ void EsdfMap::setCell(const Eigen::Vector3d& p, bool occupied) {
   t.setNodeValue(key, occupied ? t.getClampingThresMaxLog() : t.getClampingThresMinLog());
 }
 
-void EsdfMap::addCylinder(double x, double y, double radius) {
+void EsdfMap::addCylinder(double x, double y, double radius, bool occupied) {
   const double res = impl_->tree.getResolution();
   const double z0 = impl_->params.band_z_min;
   const double z1 = impl_->params.band_z_max;
@@ -401,7 +401,7 @@ void EsdfMap::addCylinder(double x, double y, double radius) {
     for (double xx = std::floor((x - radius) / res) * res + 0.5 * res; xx <= x + radius; xx += res) {
       if ((xx - x) * (xx - x) + (yy - y) * (yy - y) > radius * radius) continue;
       for (double zz = std::floor(z0 / res) * res + 0.5 * res; zz <= z1 + 0.5 * res; zz += res) {
-        setCell(Eigen::Vector3d(xx, yy, zz), true);
+        setCell(Eigen::Vector3d(xx, yy, zz), occupied);
       }
     }
   }

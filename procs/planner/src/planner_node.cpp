@@ -122,6 +122,12 @@ void PlannerNode::onObjects(const tracked_objects_t& msg) {
     }
     if (pose_ && std::hypot(o.x - pose_->x, o.y - pose_->y) > op.max_range) continue;
     obstacles_.push_back(ob);
+    if (op.clear_under_speed > 0.0 && o.state == tracked_object_t::STATE_CONFIRMED &&
+        std::hypot(o.vx, o.vy) >= op.clear_under_speed && std::isfinite(diag)) {
+      map_.addCylinder(o.x, o.y, std::min(op.clear_max_radius, 0.5 * std::max(o.size_x, o.size_y)), false);
+      map_dirty_ = true;
+      report_.count("cleared_under_movers");
+    }
   }
   objects_utime_ = msg.utime;
   objects_seen_ = true;

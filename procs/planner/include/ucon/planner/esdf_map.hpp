@@ -82,8 +82,8 @@ class EsdfMap {
   /// map built from known geometry would (benchmark worlds, tests). Non-finite p is ignored.
   void setCell(const Eigen::Vector3d& p, bool occupied);
   /// Marks every leaf whose centre lies in the vertical cylinder (x, y, radius) within the
-  /// height band as occupied.
-  void addCylinder(double x, double y, double radius);
+  /// height band as occupied (or, with occupied false, as free).
+  void addCylinder(double x, double y, double radius, bool occupied = true);
   /// Marks every leaf whose centre lies in the axis-aligned box [x0,x1]x[y0,y1] within the
   /// height band as occupied.
   void addBox(double x0, double y0, double x1, double y1);
