@@ -119,7 +119,7 @@ struct EsdfMap::Impl {
   std::vector<uint8_t> occupied;
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
-  std::vector<uint64_t> scratch_endpoints, scratch_free, scratch_occupied;  // band-only insertion
+  std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
   std::vector<uint32_t> stamp_free, stamp_occupied;  // ... its per-cell dedup stamps
   uint32_t stamp_gen = 0;
   std::vector<std::pair<octomap::key_type, octomap::key_type>> dirty_columns;
@@ -286,8 +286,8 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   const double z_lo = t.keyToCoord(m.band_key_min) - 1.5 * res;
   const double z_hi = t.keyToCoord(m.band_key_max) + 1.5 * res;
   const bool origin_in_slab = o.z() >= z_lo && o.z() <= z_hi;
-  // Keys packed into 48 bits and kept in sorted vectors: hash sets (OctoMap's KeySet) spend
-  // most of an insertion allocating nodes.
+  // Keys packed into 48 bits in reused vectors: hash sets (OctoMap's KeySet) spend most of an
+  // insertion allocating nodes.
   const auto pack = [](const octomap::OcTreeKey& k) {
     return (uint64_t(k[0]) << 32) | (uint64_t(k[1]) << 16) | uint64_t(k[2]);
   };
@@ -295,10 +295,10 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     return octomap::OcTreeKey(octomap::key_type(v >> 32), octomap::key_type(v >> 16), octomap::key_type(v));
   };
   std::vector<uint64_t>& endpoints = m.scratch_endpoints;
-  std::vector<uint64_t>& free_cells = m.scratch_free;
+  std::vector<uint64_t>& free_outside = m.scratch_free_outside;
   std::vector<uint64_t>& occupied_cells = m.scratch_occupied;
   endpoints.clear();
-  free_cells.clear();
+  free_outside.clear();
   occupied_cells.clear();
   std::size_t finite = 0;
   for (const auto& p : points) {
@@ -369,7 +369,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     for (const auto& c : ray) {
       const long i = local(c);
       if (i < 0) {
-        free_cells.push_back(pack(c));  // outside the grid (origin outside the slab): below
+        free_outside.push_back(pack(c));  // outside the grid (origin outside the slab): below
         continue;
       }
       if (m.stamp_occupied[std::size_t(i)] == gen || m.stamp_free[std::size_t(i)] == gen) continue;
@@ -377,9 +377,9 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
       t.updateNode(c, false, false);
     }
   }
-  std::sort(free_cells.begin(), free_cells.end());
-  free_cells.erase(std::unique(free_cells.begin(), free_cells.end()), free_cells.end());
-  for (const uint64_t k : free_cells)
+  std::sort(free_outside.begin(), free_outside.end());
+  free_outside.erase(std::unique(free_outside.begin(), free_outside.end()), free_outside.end());
+  for (const uint64_t k : free_outside)
     if (!std::binary_search(occupied_cells.begin(), occupied_cells.end(), k)) t.updateNode(unpack(k), false, false);
   for (const uint64_t k : occupied_cells) t.updateNode(unpack(k), true, false);
   return InsertStatus::kOk;
