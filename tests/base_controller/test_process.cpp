@@ -24,6 +24,7 @@
 #include "ucon/robot_pose_t.hpp"
 #include "ucon/trajectory_t.hpp"
 #include "ucon/wheel_cmd_t.hpp"
+#include "../support/test_support.hpp"
 
 namespace {
 constexpr const char* kUrl = "udpm://239.255.76.67:7741?ttl=0";
@@ -34,17 +35,7 @@ int64_t wallUs() {
   return static_cast<int64_t>(tv.tv_sec) * 1000000 + tv.tv_usec;
 }
 
-pid_t launch(const std::vector<std::string>& args) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
+pid_t launch(const std::vector<std::string>& args) { return ucon::test::spawn(args); }
 
 int waitExit(pid_t pid, int timeout_ms) {
   for (int i = 0; i < timeout_ms / 10; ++i) {

@@ -12,6 +12,7 @@
 
 #include "mot_log.hpp"
 #include "ucon/channels.hpp"
+#include "../support/test_support.hpp"
 
 namespace {
 
@@ -21,15 +22,7 @@ std::string tempPath(const std::string& name) {
 
 template <class Msg>
 void write(lcm::LogFile& log, const std::string& channel, const Msg& m, int64_t t) {
-  std::vector<uint8_t> buf(static_cast<size_t>(m.getEncodedSize()));
-  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
-  lcm::LogEvent ev;
-  ev.eventnum = 0;
-  ev.timestamp = t;
-  ev.channel = channel;
-  ev.datalen = static_cast<int32_t>(buf.size());
-  ev.data = buf.data();
-  ASSERT_EQ(log.writeEvent(&ev), 0);
+  ucon::test::writeLogEvent(log, channel, m, t);
 }
 
 ucon::sim_ground_truth_t gtAt(int64_t utime, double x) {

@@ -20,6 +20,7 @@
 
 #include "ucon/channels.hpp"
 #include "ucon/tracked_objects_t.hpp"
+#include "../support/test_support.hpp"
 
 namespace {
 
@@ -43,19 +44,7 @@ void setKey(std::string& yaml, const std::string& key, const std::string& value)
   yaml.replace(start, end - start, " " + value + " ");
 }
 
-pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    FILE* f = std::freopen(log.c_str(), "w", stderr);
-    (void)f;
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
+using ucon::test::spawn;
 
 struct Receiver {
   int messages = 0, valid = 0;

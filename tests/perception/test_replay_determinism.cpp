@@ -12,21 +12,11 @@
 #include "synthetic_scene.hpp"
 #include "ucon/channels.hpp"
 #include "ucon/perception/perception_node.hpp"
+#include "../support/test_support.hpp"
 
 namespace {
 
-template <class Msg>
-void writeEvent(lcm::LogFile& log, const std::string& channel, const Msg& m, int64_t t) {
-  std::vector<uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
-  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
-  lcm::LogEvent ev;
-  ev.eventnum = 0;
-  ev.timestamp = t;
-  ev.channel = channel;
-  ev.datalen = static_cast<int32_t>(buf.size());
-  ev.data = buf.data();
-  ASSERT_EQ(log.writeEvent(&ev), 0);
-}
+using ucon::test::writeLogEvent;
 
 template <class Msg>
 void append(std::vector<uint8_t>& out, const Msg& m) {
@@ -71,8 +61,8 @@ TEST(PerceptionReplay, GivenARecordedLogWhenReplayedTwiceThenOutputsAreByteIdent
     const std::vector<scene::Wall> walls{{-3, 4, 6, 4}, {7, -3, 7, 3}};
     for (int k = 0; k < 90; ++k) {
       const int64_t t = scene::frameTime(k);
-      writeEvent(log, ucon::channels::kRobotPose, scene::pose(t), t);
-      writeEvent(log, ucon::channels::kLidarPoints, gen.frame(k, people, walls), t + 20000);
+      writeLogEvent(log, ucon::channels::kRobotPose, scene::pose(t), t);
+      writeLogEvent(log, ucon::channels::kLidarPoints, gen.frame(k, people, walls), t + 20000);
     }
   }
   for (const char* method : {"ucon", "fapp"}) {

@@ -21,6 +21,7 @@
 #include "ucon/livox/protocol.hpp"
 #include "ucon/robot_pose_t.hpp"
 #include "ucon/runtime/config_file.hpp"
+#include "../support/test_support.hpp"
 
 namespace {
 
@@ -67,21 +68,7 @@ std::string writeConfig() {
   return path;
 }
 
-// Runs the simulator and returns its pid; stderr goes to `log`.
-pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 2);
-    dup2(fd, 1);
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
+using ucon::test::spawn;
 
 std::string slurp(const std::string& path) {
   std::ifstream f(path);
