@@ -38,6 +38,15 @@ inline ucon::robot_pose_t pose(int64_t utime) {
   return p;
 }
 
+// Fills the per-point fields and the count of a cloud whose x, y, z are set.
+inline void finishCloud(ucon::point_cloud_t& c) {
+  c.num_points = static_cast<int32_t>(c.x.size());
+  c.t_offset_ns.assign(c.x.size(), 0);
+  c.reflectivity.assign(c.x.size(), 100);
+  c.tag.assign(c.x.size(), 0);
+  c.duration_us = 20000;
+}
+
 class Generator {
  public:
   explicit Generator(uint32_t seed = 7) : rng_(seed) {}
@@ -72,11 +81,7 @@ class Generator {
     }
     // Ground points (cropped by the height band).
     for (int i = 0; i < 50; ++i) add(1.0 + 0.1 * i, -2.0, 0.0);
-    c.num_points = static_cast<int32_t>(c.x.size());
-    c.t_offset_ns.assign(c.x.size(), 0);
-    c.reflectivity.assign(c.x.size(), 100);
-    c.tag.assign(c.x.size(), 0);
-    c.duration_us = 20000;
+    finishCloud(c);
     return c;
   }
 

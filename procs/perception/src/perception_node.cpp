@@ -35,6 +35,8 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
     : params_(params),
       stopwatch_(stopwatch ? std::move(stopwatch) : Stopwatch(steadySeconds)),
       poses_(2.0),
+      persistence_(params.segmentation.static_cell, params.segmentation.static_persistence,
+                   params.segmentation.static_max_gap),
       status_("perception") {
   const double bin = params_.segmentation.free_space_bin_deg;
   az_bins_ = static_cast<int>(std::ceil(360.0 / bin));
@@ -302,6 +304,13 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
 
   PerceptionOutput out;
   out.objects = buildObjects(utime, cloud.seq);
+  t = stopwatch_();
+  if (params_.segmentation.static_persistence > 0.0) {
+    persistence_.update(utime, frame_points_, &persistent_);
+    for (std::size_t i = 0; i < frame_points_.size(); ++i)
+      if (!persistent_[i]) dynamic_point[i] = 1;
+  }
+  status_.time("persistence", elapsedMs(t));
   out.static_points = buildStatic(utime, *pose, dynamic_point);
   t = stopwatch_();
   pushHistory(utime);
@@ -352,10 +361,14 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
   for (const auto& f : recent_cropped_) merged.insert(merged.end(), f.begin(), f.end());
   frame_points_ = voxelDownsample(merged, p.voxel_size);
   frame_min_range_.assign(static_cast<std::size_t>(free_az_ * free_el_), INFINITY);
+  frame_fine_min_range_.assign(static_cast<std::size_t>(az_bins_ * el_bins_), INFINITY);
   for (const auto& q : frame_points_) {
     const Eigen::Vector3f ray = q - sensor_origin_;
+    const float r = ray.norm();
     float& m = frame_min_range_[freeBin(ray)];
-    m = std::min(m, ray.norm());
+    m = std::min(m, r);
+    float& f = frame_fine_min_range_[angularBin(ray)];
+    f = std::min(f, r);
   }
 }
 
@@ -440,16 +453,9 @@ void PerceptionNode::segment() {
             }
           }
           if (near) continue;
-          // Free-space check: the point counts as moved only if the reference saw past it
-          // along its ray (space that was free is now occupied), or never looked there. A
-          // surface that was merely hidden (disocclusion) is not motion.
-          const Eigen::Vector3f ray = frame_points_[i] - sensor_origin_;
-          const int b = angularBin(ray);
-          float seen = 0.0f;
-          for (const HistoryChunk* c : ref_chunks) seen = std::max(seen, c->max_range[b]);
-          const bool free_before = seen == 0.0f || seen > ray.norm() + static_cast<float>(s.free_space_margin);
-          moved += free_before ? 1 : 0;
-          point_moved_[i] = free_before ? 1 : 0;
+          const bool m = pointMoved(frame_points_[i], ref_chunks);
+          moved += m ? 1 : 0;
+          point_moved_[i] = m ? 1 : 0;
         }
         d.moving = static_cast<double>(moved) >= s.motion_ratio * static_cast<double>(g.size());
       }
@@ -457,6 +463,39 @@ void PerceptionNode::segment() {
     last_detections_.push_back(std::move(d));
   }
   status_.time("motion", elapsedMs(t0));
+}
+
+bool PerceptionNode::pointMoved(const Eigen::Vector3f& p, const std::vector<const HistoryChunk*>& chunks) const {
+  // A point with no reference point nearby is new surface. It is motion, not a disocclusion,
+  // when some reference chunk (seen from its own sensor origin) either
+  //  - saw past it along its ray: the space it occupies now was free (an object moving in), or
+  //  - saw only nearer returns along its ray, and this frame sees through the farthest of
+  //    them: what stood in front of the point then has gone (an object moving away; its new
+  //    surface lies behind its old one, where the reference could not look).
+  // Parallax from the robot's own motion fails both: the occluder is still there.
+  // A direction no reference chunk looked in counts as moved (nothing was known to be there).
+  // The vanishing test needs every chunk to have stopped short of the point: one ray of the
+  // window passing beside a nearer edge in the same bin makes the bin ambiguous.
+  const float margin = static_cast<float>(params_.segmentation.free_space_margin);
+  float best_seen = 0.0f, best_range = 0.0f;
+  const HistoryChunk* best = nullptr;
+  for (const HistoryChunk* c : chunks) {
+    const Eigen::Vector3f ray = p - c->origin;
+    const float range = ray.norm();
+    if (!(range > 0.0f)) continue;
+    const float seen = c->max_range[static_cast<std::size_t>(angularBin(ray))];
+    if (seen == 0.0f) continue;
+    if (seen > range + margin) return true;
+    if (best == nullptr || seen - range > best_seen - best_range) best = c, best_seen = seen, best_range = range;
+  }
+  if (best == nullptr) return true;
+  if (best_seen >= best_range - margin) return false;
+  // The gap bounds how far the object moved; a larger one is more likely structure revealed
+  // by a mover that passed in front of it.
+  if (best_seen < best_range - static_cast<float>(params_.segmentation.vanish_max_gap)) return false;
+  const Eigen::Vector3f q = best->origin + (p - best->origin) * (best_seen / best_range) - sensor_origin_;
+  const float now = frame_fine_min_range_[static_cast<std::size_t>(angularBin(q))];
+  return std::isfinite(now) && now > q.norm() + margin;
 }
 
 std::vector<TrackView> PerceptionNode::trackViews(int64_t utime) const {

@@ -29,6 +29,7 @@
 #include "ucon/perception/params.hpp"
 #include "ucon/perception/point_index.hpp"
 #include "ucon/perception/pose_buffer.hpp"
+#include "ucon/perception/static_persistence.hpp"
 #include "ucon/point_cloud_t.hpp"
 #include "ucon/static_points_t.hpp"
 #include "ucon/status_report.hpp"
@@ -154,6 +155,8 @@ class PerceptionNode {
   Stopwatch stopwatch_;
   MessageClock clock_;
   PoseBuffer poses_;
+  StaticPersistence persistence_;  ///< x-y cells occupied long enough for PERCEPTION_STATIC
+  std::vector<char> persistent_;   ///< per frame point: its cell passed the persistence test
   StatusReport status_;
 
   int64_t last_frame_utime_ = 0;
@@ -180,6 +183,8 @@ class PerceptionNode {
   int az_bins_ = 360, el_bins_ = 180;
   int free_az_ = 120, free_el_ = 60;
   std::vector<float> frame_min_range_;  ///< nearest return per coarse bin of this frame [m]; inf = none
+  std::vector<float> frame_fine_min_range_;  ///< nearest return per motion-test bin of this frame [m]; inf = none
+  bool pointMoved(const Eigen::Vector3f& p, const std::vector<const HistoryChunk*>& chunks) const;
   int freeBin(const Eigen::Vector3f& d) const;
   std::deque<Points> recent_cropped_;  ///< cropped world points of the last frames (accumulation)
   Points frame_points_;             ///< pre-processed, world frame

@@ -1,0 +1,52 @@
+#pragma once
+/// @file static_persistence.hpp
+/// Which x-y cells have been occupied long enough to count as static structure.
+///
+/// A moving object that the motion test missed leaves its points in PERCEPTION_STATIC, and
+/// the planner's map turns them into ghost obstacles along its path. Structure stays where
+/// it is: a point goes to the static output only once its x-y cell has been hit without a
+/// long gap for `persistence` seconds. Fast movers never hold a cell that long; newly seen
+/// structure is published `persistence` later. Time comes from frame stamps only.
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace ucon {
+namespace perception {
+
+class StaticPersistence {
+ public:
+  /// @param cell x-y cell edge [m], > 0
+  /// @param persistence a cell must have been occupied this long [s], >= 0 (0: every point passes)
+  /// @param max_gap a cell not hit for longer than this starts over [s], > 0
+  /// @param cells_per_side the rolling grid's side in cells (a power of two; it must span the
+  ///        sensor's range twice over: 256 cells of 0.2 m cover +-25 m)
+  StaticPersistence(double cell, double persistence, double max_gap, int cells_per_side = 256);
+
+  /// Records the x-y cells of `points` as hit at `utime` and marks in `persistent` (resized to
+  /// points.size()) the points whose cell has been occupied for at least `persistence`.
+  /// Frames must come in non-decreasing time; an earlier stamp resets the grid.
+  void update(int64_t utime, const std::vector<Eigen::Vector3f>& points, std::vector<char>* persistent);
+
+  void reset();
+
+ private:
+  struct Slot {
+    int64_t key = INT64_MIN;  ///< packed cell coordinates; INT64_MIN = empty
+    int64_t first_utime = 0;  ///< start of the current run of hits [us]
+    int64_t last_utime = 0;   ///< newest hit [us]
+  };
+  double inv_cell_;
+  int64_t persistence_us_;
+  int64_t max_gap_us_;
+  int side_;
+  int mask_;
+  int64_t last_utime_ = INT64_MIN;
+  std::vector<Slot> slots_;
+  std::vector<int> point_slot_;
+};
+
+}  // namespace perception
+}  // namespace ucon
