@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "ucon/perception/footprint.hpp"
 #include "ucon/perception/reassociation.hpp"
 #include "ucon/tracked_object_t.hpp"
 
@@ -423,7 +424,7 @@ void PerceptionNode::segment() {
       hi = hi.cwiseMax(frame_points_[i]);
       zsum += frame_points_[i].z();
     }
-    d.box.center = (0.5f * (lo + hi)).head<2>().cast<double>();
+    d.box.center = viewCorrectedCenter(frame_points_, g, sensor_origin_.head<2>().cast<double>(), s.view_center_shift);
     d.box.size = (hi - lo).head<2>().cast<double>();
     d.min_z = lo.z();
     d.max_z = hi.z();
@@ -528,7 +529,8 @@ PerceptionNode::Measurement PerceptionNode::measure(const std::vector<int>& indi
     zsum += p.z();
     m.points.push_back(p);
   }
-  m.box.center = (0.5f * (lo + hi)).head<2>().cast<double>();
+  m.box.center = viewCorrectedCenter(frame_points_, indices, sensor_origin_.head<2>().cast<double>(),
+                                     params_.segmentation.view_center_shift);
   m.box.size = (hi - lo).head<2>().cast<double>();
   m.size_z = hi.z() - lo.z();
   m.center << m.box.center, zsum / static_cast<double>(indices.size());

@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
@@ -152,6 +153,7 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
         if (m.channel != ucon::channels::kPerceptionStatic || last_gt_.objects.empty()) continue;
         ucon::static_points_t s;
         if (!rp::decodeExact(m.data.data(), m.data.size(), &s)) continue;
+        last_static_ = s;
         // Leak: static points on a mover's body (within 0.1 m of its surface), movers within
         // 15 m of the robot. Each such point paints a ghost obstacle into the planner's map.
         {
@@ -222,6 +224,7 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
   bool replace_objects_, clean_static_;
  public:
   int64_t leaked_points_ = 0, static_points_ = 0;
+  ucon::static_points_t last_static_;  ///< the newest PERCEPTION_STATIC (as published)
 
  private:
   ucon::sim_ground_truth_t last_gt_;
@@ -269,6 +272,11 @@ class MissionAdapter : public rp::NodeAdapter {
       ucon::sim_ground_truth_t m;
       if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
       node_.onGroundTruth(m);
+      // The last 2 s of ground truth with the tracks of the time, for the collision report.
+      if (!collided_) {
+        recent_.push_back({m, last_objects_, last_plan_, probe_ ? probe_->last_static_ : ucon::static_points_t{}});
+        if (recent_.size() > 100) recent_.pop_front();
+      }
       // Tracking recall near the robot: movers within 10 m (and visible, where the simulator says)
       // with a track within 0.7 m.
       for (const auto& o : m.objects) {
@@ -308,6 +316,7 @@ class MissionAdapter : public rp::NodeAdapter {
             std::snprintf(trk, sizeof(trk), "NOT tracked (nearest track %.1f m)", td);
           std::snprintf(buf, sizeof(buf), "mover %lld (%.2f m/s, r %.2f) %s; %s", static_cast<long long>(hit->id),
                         std::hypot(hit->vx, hit->vy), hit->radius, trk, last_plan_.c_str());
+          history_ = moverHistory(hit->id);
           hit_mover_ = true;
         } else {
           std::snprintf(buf, sizeof(buf), "static; %s", last_plan_.c_str());
@@ -341,6 +350,55 @@ class MissionAdapter : public rp::NodeAdapter {
   std::string collision_with_;
   ucon::tracked_objects_t last_objects_;
   std::string last_plan_;
+  struct Snapshot {
+    ucon::sim_ground_truth_t gt;
+    ucon::tracked_objects_t tracks;
+    std::string plan;
+    ucon::static_points_t statics;
+  };
+  const OracleObjectsAdapter* probe_ = nullptr;
+  std::deque<Snapshot> recent_;
+  std::string history_;
+
+  // One line per 0.25 s before the hit: the mover and robot as they were, the nearest track.
+  std::string moverHistory(int64_t id) const {
+    std::string out;
+    for (std::size_t k = 0; k < recent_.size(); k += 12) {
+      const Snapshot& s = recent_[k];
+      const ucon::sim_object_t* o = nullptr;
+      for (const auto& c : s.gt.objects)
+        if (c.id == id) o = &c;
+      if (!o) continue;
+      const ucon::tracked_object_t* tr = nullptr;
+      double td = INFINITY;
+      for (const auto& t : s.tracks.objects) {
+        const double d = std::hypot(t.x - o->x, t.y - o->y);
+        if (d < td) td = d, tr = &t;
+      }
+      int on_body = 0;  // static points published on the mover's body (a ghost the map keeps)
+      for (int q = 0; q < s.statics.num_points; ++q)
+        on_body += std::hypot(s.statics.x[q] - o->x, s.statics.y[q] - o->y) < o->radius + 0.1 ? 1 : 0;
+      char b[360];
+      const double gap = std::hypot(o->x - s.gt.robot_x, o->y - s.gt.robot_y) - o->radius - s.gt.robot_radius;
+      if (tr && td < 1.5)
+        std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover v (%.2f %.2f) static %d | track %lld %.2f m off v (%.2f %.2f) st %d assoc %d pts %d | %s",
+                      1e-6 * double(recent_.back().gt.utime - s.gt.utime), gap, s.gt.robot_vx, s.gt.robot_vy, o->vx, o->vy,
+                      on_body, static_cast<long long>(tr->id), td, tr->vx, tr->vy, int(tr->state),
+                      int(tr->last_association), tr->num_points, s.plan.substr(0, 60).c_str());
+      else
+        std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover v (%.2f %.2f) static %d | no track | %s",
+                      1e-6 * double(recent_.back().gt.utime - s.gt.utime), gap, s.gt.robot_vx, s.gt.robot_vy, o->vx, o->vy,
+                      on_body, s.plan.substr(0, 60).c_str());
+      out += b;
+    }
+    return out;
+  }
+
+ public:
+  const std::string& history() const { return history_; }
+  void setProbe(const OracleObjectsAdapter* p) { probe_ = p; }
+
+ private:
   double robot_speed_at_hit_ = NAN;
   int64_t goals_sent_ = 0;
 };
@@ -438,6 +496,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     stage_nodes.push_back(node);
   }
   MissionAdapter mission(setup.mission, sc->robot.goals, timeout_s);
+  mission.setProbe(perception_wrap);
 
   // Mission first: a pose that reaches a goal updates it before the planner sees the pose.
   std::vector<rp::NodeAdapter*> loop{&mission};
@@ -476,7 +535,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     res.static_points = perception_wrap->static_points_;
   }
   res.cpu_s = threadCpuSeconds() - cpu0;
-  res.collision_with = mission.collisionWith();
+  res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
   res.ok = true;

@@ -237,6 +237,16 @@ int main(int argc, char** argv) {
               std::fprintf(trace, " det %.2f m pts %zu size %.2f %.2f z %.2f-%.2f ok %d moving %d supp %d",
                            bd, best->indices.size(), best->box.size.x(), best->box.size.y(), best->min_z,
                            best->max_z, best->size_ok, best->moving, best->supported);
+            // The nearest published track (any state): matched elsewhere, tentative or too far?
+            const ucon::tracked_object_t* nt = nullptr;
+            double nd = 1e9;
+            for (const auto& t : o.objects->objects) {
+              const double dd = std::hypot(t.x - gx, t.y - gy);
+              if (dd < nd) nd = dd, nt = &t;
+            }
+            if (nt)
+              std::fprintf(trace, " track %lld %.2f m st %d assoc %d", static_cast<long long>(nt->id), nd,
+                           int(nt->state), int(nt->last_association));
             std::fprintf(trace, "\n");
           }
         }
