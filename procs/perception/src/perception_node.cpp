@@ -340,6 +340,7 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
   const float max_r2 = static_cast<float>(p.max_range * p.max_range);
   Points kept;
   kept.reserve(static_cast<std::size_t>(cloud.num_points));
+  frame_returns_.clear();
   int64_t non_finite = 0;
   for (int i = 0; i < cloud.num_points; ++i) {
     const Eigen::Vector3f b(cloud.x[i], cloud.y[i], cloud.z[i]);
@@ -349,7 +350,11 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
     }
     const Eigen::Vector3f w = cloud.frame_id == "world" ? b : Eigen::Vector3f(R * b + tr);
     const float r2 = (w.head<2>() - centre.head<2>()).squaredNorm();
-    if (r2 < min_r2 || r2 > max_r2) continue;
+    if (r2 < min_r2) continue;
+    // Ground and far returns are not objects, but the space their rays crossed was free: the
+    // motion test needs that (a mover's lower half is seen against the ground).
+    frame_returns_.push_back(w);
+    if (r2 > max_r2) continue;
     if (w.z() < p.min_height || w.z() > p.max_height) continue;
     kept.push_back(w);
   }
@@ -370,6 +375,11 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
     m = std::min(m, r);
     float& f = frame_fine_min_range_[angularBin(ray)];
     f = std::min(f, r);
+  }
+  for (const auto& q : frame_returns_) {
+    const Eigen::Vector3f ray = q - sensor_origin_;
+    float& f = frame_fine_min_range_[angularBin(ray)];
+    f = std::min(f, ray.norm());
   }
 }
 
@@ -830,7 +840,9 @@ void PerceptionNode::pushHistory(int64_t utime) {
     c.origin = sensor_origin_;
     c.max_range.assign(static_cast<std::size_t>(az_bins_ * el_bins_), 0.0f);
   }
-  for (const auto& p : frame_points_) {
+  // Free-space evidence of the newest frame: every return, ground included (frame_points_
+  // holds the last frames again, cropped).
+  for (const auto& p : frame_returns_) {
     const Eigen::Vector3f ray = p - c.origin;
     float& m = c.max_range[angularBin(ray)];
     m = std::max(m, ray.norm());

@@ -187,6 +187,7 @@ class PerceptionNode {
   bool pointMoved(const Eigen::Vector3f& p, const std::vector<const HistoryChunk*>& chunks) const;
   int freeBin(const Eigen::Vector3f& d) const;
   std::deque<Points> recent_cropped_;  ///< cropped world points of the last frames (accumulation)
+  Points frame_returns_;  ///< every return of the newest frame outside the robot's body, ground and far ones included: free-space evidence
   Points frame_points_;             ///< pre-processed, world frame
   std::vector<char> point_moved_;   ///< per frame point: failed the motion test (moved)
   PointIndex frame_index_;
