@@ -225,6 +225,9 @@ TEST(PerceptionNode, GivenAPersonHiddenInAStaticClusterThenReassociationKeepsIts
   p.reassociation.max_consecutive = 1000;
   // Points inside a static cluster carry no motion-test evidence; the pass takes ~3 s.
   p.tracks.max_stationary = 10.0;
+  // Re-association alone: splitting the moved points out of the merged cluster (the other way
+  // to keep the track, tested below) is off.
+  p.segmentation.split_max_size = 0.0;
   int64_t n = 0;
   EXPECT_TRUE(keptAlongBoard(p, &n));
   EXPECT_GT(n, 50) << "re-association carried the track along the board";
@@ -449,4 +452,36 @@ TEST(PerceptionNode, GivenAMoverThenFewOfItsPointsReachTheStaticOutputAndTheWall
       EXPECT_GT(s.num_points, 50) << "frame " << k;
     }
   }
+}
+
+namespace {
+
+// Frames of a person walking along a 2.5 m wall 0.4 m away: while beside it, person and wall
+// form one cluster too large for an object. Returns the share of those frames in which a
+// confirmed track within 0.4 m of the person was measured at object level.
+double measuredShareBesideWall(const PerceptionParams& p) {
+  PerceptionNode node(p);
+  const std::vector<scene::Person> people{{3.4, -3.5, 0.0, 1.0}};
+  const std::vector<scene::Wall> walls{{3.0, -1.25, 3.0, 1.25}, {-3, 4, 6, 4}};
+  const RunResult r = run(node, 350, [&](int) { return people; }, walls);
+  int beside = 0, measured = 0;
+  for (int k = 0; k < 350; ++k) {
+    const double t = k * 0.02;
+    if (std::abs(people[0].y(t)) > 1.0) continue;  // beside the wall
+    ++beside;
+    const TO* a = nearestConfirmed(r.objects[static_cast<std::size_t>(k)], people[0].x(t), people[0].y(t), 0.4);
+    measured += a && a->last_association == TO::ASSOC_OBJECT ? 1 : 0;
+  }
+  return beside > 0 ? static_cast<double>(measured) / beside : 0.0;
+}
+
+}  // namespace
+
+TEST(PerceptionNode, GivenAPersonMergedWithAWallTooLargeForAnObjectThenItsMovedPointsStillMeasureItsTrack) {
+  const double with = measuredShareBesideWall(testParams());
+  PerceptionParams off = testParams();
+  off.segmentation.split_max_size = 0.0;
+  const double without = measuredShareBesideWall(off);
+  EXPECT_GT(with, 0.8);
+  EXPECT_LT(without, 0.5);
 }

@@ -50,7 +50,7 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
                         "frames_no_pose", "frames_stale_pose", "points_in", "points_non_finite",
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
-                        "kalman_errors", "invalid_outputs", "reidentifications"})
+                        "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split"})
     status_.count(c, 0);
 }
 
@@ -424,7 +424,7 @@ void PerceptionNode::segment() {
   }
   const Eigen::Vector2d robot = last_robot_xy_;
   const double support2 = s.track_support_distance * s.track_support_distance;
-  for (const auto& g : groups) {
+  const auto describe = [&](const std::vector<int>& g) {
     Detection d;
     d.indices = g;
     Eigen::Vector3f lo = frame_points_[g[0]], hi = lo;
@@ -448,27 +448,60 @@ void PerceptionNode::segment() {
           break;
         }
       }
-      // FAPP-style motion test: share of points with no reference point nearby.
-      if (!refs.empty()) {
-        const double range = (d.box.center - robot).norm();
-        const double dist = s.motion_distance + s.motion_distance_per_m * range;
-        const auto motion_d2 = static_cast<float>(dist * dist);
-        int moved = 0;
-        for (int i : g) {
-          bool near = false;
-          for (const PointIndex* r : refs) {
-            float d2 = 0.0f;
-            if (r->nearest(frame_points_[i], &d2) >= 0 && d2 <= motion_d2) {
-              near = true;
-              break;
-            }
-          }
-          if (near) continue;
-          const bool m = pointMoved(frame_points_[i], ref_chunks);
-          moved += m ? 1 : 0;
-          point_moved_[i] = m ? 1 : 0;
+    }
+    return d;
+  };
+  // FAPP-style motion test: marks the points of g with no reference point nearby that moved
+  // (pointMoved); returns how many.
+  const auto markMoved = [&](const std::vector<int>& g, const Eigen::Vector2d& center) {
+    const double range = (center - robot).norm();
+    const double dist = s.motion_distance + s.motion_distance_per_m * range;
+    const auto motion_d2 = static_cast<float>(dist * dist);
+    int moved = 0;
+    for (int i : g) {
+      bool near = false;
+      for (const PointIndex* r : refs) {
+        float d2 = 0.0f;
+        if (r->nearest(frame_points_[i], &d2) >= 0 && d2 <= motion_d2) {
+          near = true;
+          break;
         }
-        d.moving = static_cast<double>(moved) >= s.motion_ratio * static_cast<double>(g.size());
+      }
+      if (near) continue;
+      const bool m = pointMoved(frame_points_[i], ref_chunks);
+      moved += m ? 1 : 0;
+      point_moved_[i] = m ? 1 : 0;
+    }
+    return moved;
+  };
+  for (const auto& g : groups) {
+    Detection d = describe(g);
+    if (d.size_ok && !refs.empty()) {
+      d.moving = static_cast<double>(markMoved(g, d.box.center)) >= s.motion_ratio * static_cast<double>(g.size());
+    } else if (!d.size_ok && !refs.empty() && d.box.size.maxCoeff() <= s.split_max_size &&
+               (d.max_z - d.min_z) >= s.min_object_height) {
+      // Too large for one object, small enough to be an object brushing a pillar or a box:
+      // its moved points, clustered on their own, are the object (the rest stays structure).
+      markMoved(g, d.box.center);
+      Points moved_pts;
+      std::vector<int> moved_idx;
+      for (int i : g)
+        if (point_moved_[i]) {
+          moved_pts.push_back(frame_points_[i]);
+          moved_idx.push_back(i);
+        }
+      if (static_cast<int>(moved_idx.size()) >= s.min_cluster_points) {
+        PointIndex sub;
+        sub.build(moved_pts);
+        for (const auto& c : sub.clusters(s.cluster_tolerance, s.min_cluster_points, s.max_cluster_points)) {
+          std::vector<int> idx;
+          for (int k : c) idx.push_back(moved_idx[static_cast<std::size_t>(k)]);
+          Detection part = describe(idx);
+          if (!part.size_ok) continue;
+          part.moving = true;
+          status_.count("moving_parts_split");
+          last_detections_.push_back(std::move(part));
+        }
       }
     }
     last_detections_.push_back(std::move(d));
