@@ -21,6 +21,23 @@ double steadySeconds() {
 
 double seconds(int64_t dt_us) { return static_cast<double>(dt_us) * 1e-6; }
 
+// Azimuth in [0, 2 pi] and elevation in [0, pi] of a direction (shifted to start at 0).
+struct Angles {
+  double az, el;
+};
+
+Angles anglesOf(const Eigen::Vector3f& d) {
+  return {std::atan2(static_cast<double>(d.y()), static_cast<double>(d.x())) + M_PI,
+          std::atan2(static_cast<double>(d.z()), static_cast<double>(d.head<2>().norm())) + M_PI / 2};
+}
+
+int binOf(const Angles& a, double bin_deg, int n_az, int n_el) {
+  const double bin = bin_deg * M_PI / 180.0;
+  const int i = std::clamp(static_cast<int>(a.az / bin), 0, n_az - 1);
+  const int j = std::clamp(static_cast<int>(a.el / bin), 0, n_el - 1);
+  return i * n_el + j;
+}
+
 Points thin(const Points& pts, int max_points) {
   if (static_cast<int>(pts.size()) <= max_points) return pts;
   Points out;
@@ -371,9 +388,10 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
   for (const auto& q : frame_points_) {
     const Eigen::Vector3f ray = q - sensor_origin_;
     const float r = ray.norm();
-    float& m = frame_min_range_[freeBin(ray)];
+    const Angles a = anglesOf(ray);  // one pair of atan2 for both grids
+    float& m = frame_min_range_[binOf(a, params_.tracks.free_bin_deg, free_az_, free_el_)];
     m = std::min(m, r);
-    float& f = frame_fine_min_range_[angularBin(ray)];
+    float& f = frame_fine_min_range_[binOf(a, params_.segmentation.free_space_bin_deg, az_bins_, el_bins_)];
     f = std::min(f, r);
   }
   for (const auto& q : frame_returns_) {
@@ -844,21 +862,11 @@ static_points_t PerceptionNode::buildStatic(int64_t utime, const Eigen::Isometry
 }
 
 int PerceptionNode::freeBin(const Eigen::Vector3f& d) const {
-  const double bin = params_.tracks.free_bin_deg * M_PI / 180.0;
-  const double az = std::atan2(static_cast<double>(d.y()), static_cast<double>(d.x())) + M_PI;
-  const double el = std::atan2(static_cast<double>(d.z()), static_cast<double>(d.head<2>().norm())) + M_PI / 2;
-  const int a = std::clamp(static_cast<int>(az / bin), 0, free_az_ - 1);
-  const int e = std::clamp(static_cast<int>(el / bin), 0, free_el_ - 1);
-  return a * free_el_ + e;
+  return binOf(anglesOf(d), params_.tracks.free_bin_deg, free_az_, free_el_);
 }
 
 int PerceptionNode::angularBin(const Eigen::Vector3f& d) const {
-  const double bin = params_.segmentation.free_space_bin_deg * M_PI / 180.0;
-  const double az = std::atan2(static_cast<double>(d.y()), static_cast<double>(d.x())) + M_PI;  // [0, 2 pi]
-  const double el = std::atan2(static_cast<double>(d.z()), static_cast<double>(d.head<2>().norm())) + M_PI / 2;
-  const int a = std::clamp(static_cast<int>(az / bin), 0, az_bins_ - 1);
-  const int e = std::clamp(static_cast<int>(el / bin), 0, el_bins_ - 1);
-  return a * el_bins_ + e;
+  return binOf(anglesOf(d), params_.segmentation.free_space_bin_deg, az_bins_, el_bins_);
 }
 
 void PerceptionNode::pushHistory(int64_t utime) {
