@@ -423,7 +423,7 @@ void PerceptionNode::segment() {
   t0 = stopwatch_();
   const int64_t now = last_frame_utime_;
   // Reference frames of the motion test: old enough for a walking person to have moved.
-  std::vector<const PointIndex*> refs;
+  std::vector<const ProximityIndex*> refs;
   std::vector<const HistoryChunk*> ref_chunks;
   for (const auto& h : history_) {
     if (!h.closed || h.index.size() == 0) continue;
@@ -478,9 +478,8 @@ void PerceptionNode::segment() {
     int moved = 0;
     for (int i : g) {
       bool near = false;
-      for (const PointIndex* r : refs) {
-        float d2 = 0.0f;
-        if (r->nearest(frame_points_[i], &d2) >= 0 && d2 <= motion_d2) {
+      for (const ProximityIndex* r : refs) {
+        if (r->anyWithin(frame_points_[i], motion_d2)) {
           near = true;
           break;
         }

@@ -5,10 +5,13 @@
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
+#include <pcl/search/search.h>
 #include <pcl/segmentation/extract_clusters.h>
 
+#include <nanoflann.hpp>
+
 #include <algorithm>
+#include <cmath>
 
 namespace ucon {
 namespace perception {
@@ -27,11 +30,75 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const Points& points) {
   cloud->is_dense = true;
   return cloud;
 }
+
+/// nanoflann's dataset adaptor over a PCL cloud.
+struct CloudAdaptor {
+  const pcl::PointCloud<pcl::PointXYZ>* cloud = nullptr;
+  std::size_t kdtree_get_point_count() const { return cloud ? cloud->size() : 0; }
+  float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*cloud)[i].data[dim]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, CloudAdaptor>, CloudAdaptor, 3>;
+
+/// PCL's search interface over a nanoflann KD-tree, so that PCL's Euclidean cluster
+/// extraction runs on it: the same neighbours as PCL's FLANN tree (points strictly inside
+/// the radius, unsorted), with one reused result buffer instead of allocations per query.
+class NanoflannSearch : public pcl::search::Search<pcl::PointXYZ> {
+ public:
+  NanoflannSearch() : pcl::search::Search<pcl::PointXYZ>("NanoflannSearch", false) {}
+
+  void setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices = IndicesConstPtr()) override {
+    input_ = cloud;
+    indices_ = indices;  // the clustering below never passes any
+    adaptor_.cloud = cloud.get();
+    tree_ = std::make_unique<NanoTree>(3, adaptor_, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+  }
+
+  int nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
+                     std::vector<float>& k_sqr_distances) const override {
+    k_indices.clear();
+    k_sqr_distances.clear();
+    if (!tree_ || k <= 0 || input_->empty()) return 0;
+    const std::size_t n = std::min<std::size_t>(std::size_t(k), input_->size());
+    std::vector<uint32_t> idx(n);
+    k_sqr_distances.resize(n);
+    const std::size_t found = tree_->knnSearch(point.data, n, idx.data(), k_sqr_distances.data());
+    k_sqr_distances.resize(found);
+    for (std::size_t i = 0; i < found; ++i) k_indices.push_back(static_cast<pcl::index_t>(idx[i]));
+    return static_cast<int>(found);
+  }
+
+  int radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Indices& k_indices,
+                   std::vector<float>& k_sqr_distances, unsigned int max_nn = 0) const override {
+    k_indices.clear();
+    k_sqr_distances.clear();
+    if (!tree_ || input_->empty()) return 0;
+    const auto r2 = static_cast<float>(radius * radius);
+    matches_.clear();
+    nanoflann::RadiusResultSet<float, uint32_t> result(r2, matches_);
+    tree_->findNeighbors(result, point.data, nanoflann::SearchParams());
+    std::size_t n = matches_.size();
+    if (max_nn > 0 && n > max_nn) n = max_nn;
+    for (std::size_t i = 0; i < n; ++i) {
+      k_indices.push_back(static_cast<pcl::index_t>(matches_[i].first));
+      k_sqr_distances.push_back(matches_[i].second);
+    }
+    return static_cast<int>(n);
+  }
+
+ private:
+  CloudAdaptor adaptor_;
+  std::unique_ptr<NanoTree> tree_;
+  mutable std::vector<std::pair<uint32_t, float>> matches_;
+};
 }  // namespace
 
 struct PointIndex::Impl {
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud;
-  pcl::search::KdTree<pcl::PointXYZ>::Ptr tree;  // sorted results off: nearest-only queries
+  std::shared_ptr<NanoflannSearch> tree;
 };
 
 PointIndex::PointIndex() : impl_(std::make_unique<Impl>()) {}
@@ -45,7 +112,7 @@ void PointIndex::build(const Points& points) {
     impl_->tree.reset();
     return;
   }
-  impl_->tree.reset(new pcl::search::KdTree<pcl::PointXYZ>(false));
+  impl_->tree = std::make_shared<NanoflannSearch>();
   impl_->tree->setInputCloud(impl_->cloud);
 }
 

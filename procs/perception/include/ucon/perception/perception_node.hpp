@@ -29,6 +29,7 @@
 #include "ucon/perception/params.hpp"
 #include "ucon/perception/point_index.hpp"
 #include "ucon/perception/pose_buffer.hpp"
+#include "ucon/perception/proximity_index.hpp"
 #include "ucon/perception/static_persistence.hpp"
 #include "ucon/point_cloud_t.hpp"
 #include "ucon/static_points_t.hpp"
@@ -115,12 +116,12 @@ class PerceptionNode {
   };
   /// Motion-test history: consecutive frames merged into chunks of ~history_chunk seconds,
   /// each indexed once when it closes (a few KD-tree queries per point instead of one per
-  /// frame).
+  /// frame; the test only asks whether any reference point lies near, see ProximityIndex).
   struct HistoryChunk {
     int64_t first_utime = 0;
     int64_t last_utime = 0;
     Points points;
-    PointIndex index;
+    ProximityIndex index;
     bool closed = false;
     Eigen::Vector3f origin = Eigen::Vector3f::Zero();  ///< sensor origin of its first frame [m]
     std::vector<float> max_range;  ///< farthest return per angular bin seen from origin [m]; 0 = none

@@ -1,0 +1,124 @@
+// PointIndex (PCL clustering on a nanoflann KD-tree) and ProximityIndex (early-exit radius
+// test) against brute force on random clouds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <tuple>
+
+#include "ucon/perception/point_index.hpp"
+#include "ucon/perception/proximity_index.hpp"
+
+using namespace ucon::perception;
+
+namespace {
+Points randomCloud(int n, unsigned seed, float extent) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-extent, extent);
+  Points pts;
+  for (int i = 0; i < n; ++i) pts.emplace_back(u(rng), u(rng), 0.2f * u(rng));
+  return pts;
+}
+
+/// Connected components of the graph "closer than tol" by brute force (union-find).
+std::vector<std::vector<int>> bruteClusters(const Points& pts, float tol, int min_pts, int max_pts) {
+  const int n = static_cast<int>(pts.size());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      if ((pts[i] - pts[j]).squaredNorm() < tol * tol) parent[find(i)] = find(j);
+  std::vector<std::vector<int>> groups(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) groups[find(i)].push_back(i);
+  std::vector<std::vector<int>> out;
+  for (auto& g : groups) {
+    const int s = static_cast<int>(g.size());
+    if (s >= min_pts && s <= max_pts) out.push_back(g);  // already sorted
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
+  return out;
+}
+}  // namespace
+
+TEST(PointIndex, GivenRandomCloudsThenClustersAreTheBruteForceConnectedComponentsWithSizeLimits) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const Points pts = randomCloud(600, seed, 4.0f);
+    PointIndex index;
+    index.build(pts);
+    ASSERT_EQ(index.size(), 600);
+    for (const auto& [tol, lo, hi] : {std::tuple{0.35f, 4, 4000}, std::tuple{0.25f, 2, 30}, std::tuple{0.5f, 1, 600}}) {
+      const auto got = index.clusters(tol, lo, hi);
+      const auto want = bruteClusters(pts, tol, lo, hi);
+      EXPECT_EQ(got, want) << "seed " << seed << " tol " << tol;
+      EXPECT_FALSE(want.empty());
+    }
+  }
+}
+
+TEST(PointIndex, GivenRandomQueriesThenNearestIsTheBruteForceNearest) {
+  const Points pts = randomCloud(500, 7, 3.0f);
+  PointIndex index;
+  index.build(pts);
+  for (const auto& q : randomCloud(200, 8, 3.5f)) {
+    float d2 = -1.0f;
+    const int i = index.nearest(q, &d2);
+    ASSERT_GE(i, 0);
+    float best = std::numeric_limits<float>::infinity();
+    for (const auto& p : pts) best = std::min(best, (p - q).squaredNorm());
+    EXPECT_FLOAT_EQ(d2, best);
+    EXPECT_FLOAT_EQ((pts[static_cast<std::size_t>(i)] - q).squaredNorm(), best);
+  }
+  float d2 = 0.0f;
+  EXPECT_EQ(index.nearest(Eigen::Vector3f(NAN, 0, 0), &d2), -1);
+  PointIndex empty;
+  empty.build({});
+  EXPECT_EQ(empty.nearest(Eigen::Vector3f::Zero(), &d2), -1);
+  EXPECT_TRUE(empty.clusters(0.35, 1, 10).empty());
+}
+
+TEST(ProximityIndex, GivenRandomQueriesThenAnyWithinAgreesWithTheBruteForceNearestDistance) {
+  const Points pts = randomCloud(2000, 11, 5.0f);
+  ProximityIndex index;
+  index.build(pts);
+  ASSERT_EQ(index.size(), 2000);
+  int inside = 0, outside = 0;
+  for (const auto& q : randomCloud(3000, 12, 5.5f)) {
+    float best = std::numeric_limits<float>::infinity();
+    for (const auto& p : pts) best = std::min(best, (p - q).squaredNorm());
+    for (const float r : {0.05f, 0.1f, 0.25f}) {
+      const bool want = best <= r * r;
+      EXPECT_EQ(index.anyWithin(q, r * r), want);
+      (want ? inside : outside) += 1;
+    }
+  }
+  EXPECT_GT(inside, 500);  // both answers exercised
+  EXPECT_GT(outside, 500);
+}
+
+TEST(ProximityIndex, GivenAPointExactlyOnTheSphereThenItCountsAsWithin) {
+  ProximityIndex index;
+  index.build({Eigen::Vector3f(0.5f, 0.0f, 0.0f), Eigen::Vector3f(3.0f, 0.0f, 0.0f)});
+  EXPECT_TRUE(index.anyWithin(Eigen::Vector3f::Zero(), 0.25f));   // d^2 = 0.25 exactly
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f::Zero(), std::nextafter(0.25f, 0.0f)));
+}
+
+TEST(ProximityIndex, GivenBadInputThenFalseAndNonFinitePointsAreLeftOut) {
+  ProximityIndex index;
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f::Zero(), 1.0f));  // never built
+  index.build({Eigen::Vector3f(NAN, 0, 0), Eigen::Vector3f(0, INFINITY, 0), Eigen::Vector3f(1, 1, 1)});
+  EXPECT_EQ(index.size(), 1);
+  EXPECT_TRUE(index.anyWithin(Eigen::Vector3f(1, 1, 1.1f), 0.02f));
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(NAN, 1, 1), 1.0f));
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(1, 1, 1), NAN));
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(1, 1, 1), -1.0f));
+  index.build({});
+  EXPECT_EQ(index.size(), 0);
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(1, 1, 1), 1.0f));
+}
