@@ -211,6 +211,66 @@ TEST(EsdfMap, GivenRandomScansWhenInsertedBandOnlyThenTheSliceEqualsAFullInserti
   EXPECT_GT(free_near, 50);  // ... and distances
 }
 
+TEST(EsdfMap, GivenLongSequencesOfScansAndCellWritesThenEveryBandCellEqualsAFullInsertion) {
+  // The band-only insertion skips hits and misses on leaves already at a clamping bound (a
+  // cache of such leaves); full insertion does not. Many scans drive leaves to both bounds
+  // and back, and direct cell writes in between must keep the cache honest. Every return lies
+  // inside the band's slab and range, so both insertions trace the very same rays (clipped
+  // rays may differ in a last cell by float rounding) and must agree leaf for leaf.
+  MapParams full = smallParams();
+  full.band_only = false;
+  MapParams band = full;
+  band.band_only = true;
+  EsdfMap a(full), b(band);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), height(0.02, 0.5), dist(0.5, 3.0);
+  std::uniform_int_distribution<int> cell(-30, 30);
+  const auto compare = [&](int scan, int* occupied_out) {
+    int occupied = 0;
+    for (int ix = -35; ix <= 35; ++ix)
+      for (int iy = -35; iy <= 35; ++iy)
+        for (double z : {0.15, 0.25, 0.35}) {
+          const Eigen::Vector3d q((ix + 0.5) * 0.1, (iy + 0.5) * 0.1, z);
+          ASSERT_EQ(a.isOccupied(q), b.isOccupied(q)) << "scan " << scan << " at " << q.transpose();
+          occupied += a.isOccupied(q);
+        }
+    *occupied_out = occupied;
+  };
+  int occupied_seen = 0;
+  for (int scan = 0; scan < 40; ++scan) {
+    const Eigen::Vector3d origin(0.02 * (scan % 5), -0.03 * (scan % 3), 0.25);
+    std::vector<Eigen::Vector3f> pts;
+    // Three "worlds" in turn: cells are hit several times, then seen through, then hit again.
+    const float shrink = scan % 12 < 6 ? 1.0f : (scan % 12 < 9 ? 0.6f : 1.3f);
+    for (int i = 0; i < 300; ++i) {
+      const double az = ang(rng), r = dist(rng);
+      pts.emplace_back(float(origin.x() + shrink * r * std::cos(az)), float(origin.y() + shrink * r * std::sin(az)),
+                       float(height(rng)));
+    }
+    ASSERT_EQ(a.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
+    ASSERT_EQ(b.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
+    if (scan % 4 == 1) {  // direct writes: single cells and a cleared disc
+      for (int k = 0; k < 20; ++k) {
+        const Eigen::Vector3d q((cell(rng) + 0.5) * 0.1, (cell(rng) + 0.5) * 0.1, 0.25);
+        const bool occ = k % 2 == 0;
+        a.setCell(q, occ);
+        b.setCell(q, occ);
+      }
+      a.addCylinder(0.8, -0.4, 0.5, false);
+      b.addCylinder(0.8, -0.4, 0.5, false);
+    }
+    int occ = 0;
+    compare(scan, &occ);
+    if (HasFatalFailure()) return;
+    occupied_seen = std::max(occupied_seen, occ);
+  }
+  EXPECT_GT(occupied_seen, 200);  // the comparison covered real obstacles
+  a.update(Eigen::Vector2d(0, 0));
+  b.update(Eigen::Vector2d(0, 0));
+  for (int iy = 0; iy < a.slice().ny; ++iy)
+    for (int ix = 0; ix < a.slice().nx; ++ix) ASSERT_EQ(a.cellDistance(ix, iy), b.cellDistance(ix, iy));
+}
+
 TEST(EsdfMap, GivenBadMessagesWhenInsertedThenTheyAreRejectedAndNaNPointsSkipped) {
   EsdfMap map(smallParams());
   ucon::static_points_t msg{};

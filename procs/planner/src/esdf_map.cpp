@@ -122,6 +122,40 @@ struct EsdfMap::Impl {
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
   std::vector<uint32_t> stamp_free, stamp_occupied;  // ... its per-cell dedup stamps
   uint32_t stamp_gen = 0;
+  /// Leaves known to sit at a clamping bound, on a rolling grid (slot -> tagged key and which
+  /// bound; 0 = nothing known). A miss on a leaf at the free bound, or a hit on one at the
+  /// occupied bound, cannot change it: OctoMap's updateNode searches the tree and returns
+  /// unchanged, and most rays of every scan cross such leaves. Skipping that search gives the
+  /// same tree. Every other write to a leaf re-derives or forgets its entry.
+  std::vector<uint64_t> clamped = std::vector<uint64_t>(std::size_t(1) << 20, 0);
+  static uint64_t clampTag(const octomap::OcTreeKey& k, bool at_max) {
+    return (uint64_t(1) << 63) | (uint64_t(at_max) << 62) | (uint64_t(k[0]) << 32) | (uint64_t(k[1]) << 16) |
+           uint64_t(k[2]);
+  }
+  uint64_t& clampSlot(const octomap::OcTreeKey& k) {
+    return clamped[(std::size_t(k[0] & 255) << 12) | (std::size_t(k[1] & 255) << 4) | std::size_t(k[2] & 15)];
+  }
+  /// Records where leaf k stands after a write that left it at value `log_odds`.
+  void noteLeaf(const octomap::OcTreeKey& k, float log_odds) {
+    uint64_t& s = clampSlot(k);
+    if (log_odds <= tree.getClampingThresMinLog()) {
+      s = clampTag(k, false);
+    } else if (log_odds >= tree.getClampingThresMaxLog()) {
+      s = clampTag(k, true);
+    } else if ((s & ~(uint64_t(1) << 62)) == clampTag(k, false)) {
+      s = 0;
+    }
+  }
+  /// A hit or miss on leaf k, skipped when it cannot change anything.
+  void updateLeaf(const octomap::OcTreeKey& k, bool hit) {
+    if (clampSlot(k) == clampTag(k, hit)) return;
+    const octomap::OcTreeNode* n = tree.updateNode(k, hit, false);
+    if (n) {
+      noteLeaf(k, n->getLogOdds());
+    } else {
+      clampSlot(k) = 0;
+    }
+  }
   std::vector<std::pair<octomap::key_type, octomap::key_type>> dirty_columns;
   int64_t incremental = 0;
   int64_t rebuilds = 0;
@@ -274,6 +308,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (skipped) *skipped += bad;
     if (cloud.size() == 0) return InsertStatus::kEmpty;
     m.tree.insertPointCloud(cloud, o, range, /*lazy_eval=*/false, /*discretize=*/true);
+    std::fill(m.clamped.begin(), m.clamped.end(), 0);  // unknown which leaves changed
     return InsertStatus::kOk;
   }
   // The same update as OctoMap's discretised insertPointCloud, restricted to the height band:
@@ -374,14 +409,14 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
       }
       if (m.stamp_occupied[std::size_t(i)] == gen || m.stamp_free[std::size_t(i)] == gen) continue;
       m.stamp_free[std::size_t(i)] = gen;
-      t.updateNode(c, false, false);
+      m.updateLeaf(c, false);
     }
   }
   std::sort(free_outside.begin(), free_outside.end());
   free_outside.erase(std::unique(free_outside.begin(), free_outside.end()), free_outside.end());
   for (const uint64_t k : free_outside)
-    if (!std::binary_search(occupied_cells.begin(), occupied_cells.end(), k)) t.updateNode(unpack(k), false, false);
-  for (const uint64_t k : occupied_cells) t.updateNode(unpack(k), true, false);
+    if (!std::binary_search(occupied_cells.begin(), occupied_cells.end(), k)) m.updateLeaf(unpack(k), false);
+  for (const uint64_t k : occupied_cells) m.updateLeaf(unpack(k), true);
   return InsertStatus::kOk;
 }
 
@@ -390,7 +425,11 @@ void EsdfMap::setCell(const Eigen::Vector3d& p, bool occupied) {
   octomap::OcTreeKey key;
   if (!impl_->tree.coordToKeyChecked(octomap::point3d(float(p.x()), float(p.y()), float(p.z())), key)) return;
   auto& t = impl_->tree;
-  t.setNodeValue(key, occupied ? t.getClampingThresMaxLog() : t.getClampingThresMinLog());
+  // Setting a leaf to the bound it already holds changes nothing (see Impl::clamped).
+  if (impl_->clampSlot(key) == Impl::clampTag(key, occupied)) return;
+  const float v = occupied ? t.getClampingThresMaxLog() : t.getClampingThresMinLog();
+  t.setNodeValue(key, v);
+  impl_->noteLeaf(key, v);
 }
 
 void EsdfMap::addCylinder(double x, double y, double radius, bool occupied) {
