@@ -382,12 +382,37 @@ TEST(PlannerNode, GivenObstaclesClosingInFromAllSidesThenNothingPassesTheCheckAn
   EXPECT_LT(pp.sampleRelative(pp.duration()).position.norm(), 1e-9);
 }
 
+namespace {
+/// A PERCEPTION_STATIC frame: a ring of points of `radius` around each centre, at height z.
+ucon::static_points_t ringsAt(int64_t utime, const std::vector<Eigen::Vector2d>& centres, double radius, double z) {
+  ucon::static_points_t m{};
+  m.utime = utime;
+  m.valid = true;
+  m.origin_x = 0.0;
+  m.origin_y = 0.0;
+  m.origin_z = z;
+  m.max_range = 10.0f;
+  for (const auto& c : centres)
+    for (int k = 0; k < 24; ++k) {
+      const double a = 2.0 * M_PI * k / 24.0;
+      m.x.push_back(float(c.x() + radius * std::cos(a)));
+      m.y.push_back(float(c.y() + radius * std::sin(a)));
+      m.z.push_back(float(z));
+    }
+  m.num_points = int(m.x.size());
+  return m;
+}
+}  // namespace
+
 TEST(PlannerNode, GivenAConfirmedMoverOnGhostCellsThenTheyAreClearedButNotUnderSlowOrTentativeTracks) {
   // Ghost obstacles: a mover's points that leaked into the static map. A confirmed track at
   // least clear_under_speed fast clears the band under its body; a slow or tentative one
   // (maybe a false track on real structure) does not.
   Fixture f(false);
   ASSERT_GT(f.params.objects.clear_under_speed, 0.0);
+  const double z = 0.5 * (f.params.map.band_z_min + f.params.map.band_z_max);
+  // The three "ghosts" have just been published as static points (young cells).
+  f.node->onStatic(ringsAt(kT0 - 100000, {{3.0, 0.0}, {3.0, 3.0}, {3.0, -3.0}}, 0.1, z));
   f.node->map().addCylinder(3.0, 0.0, 0.25);   // ghost under the moving track
   f.node->map().addCylinder(3.0, 3.0, 0.25);   // under a slow track
   f.node->map().addCylinder(3.0, -3.0, 0.25);  // under a tentative track
@@ -398,9 +423,35 @@ TEST(PlannerNode, GivenAConfirmedMoverOnGhostCellsThenTheyAreClearedButNotUnderS
   tentative.state = tracked_object_t::STATE_TENTATIVE;
   f.node->onPose(pose(kT0, 0, 0));
   f.node->onObjects(objects(kT0, {moving, slow, tentative}));
-  const double z = 0.5 * (f.params.map.band_z_min + f.params.map.band_z_max);
   EXPECT_FALSE(f.node->map().isOccupied(Eigen::Vector3d(3.0, 0.0, z)));
   EXPECT_TRUE(f.node->map().isOccupied(Eigen::Vector3d(3.0, 3.0, z)));
   EXPECT_TRUE(f.node->map().isOccupied(Eigen::Vector3d(3.0, -3.0, z)));
+  EXPECT_EQ(f.report.counter("cleared_under_movers"), 1);
+}
+
+TEST(PlannerNode, GivenAMoverPassingOldStructureThenOnlyItsYoungGhostIsCleared) {
+  // Structure seen for longer than clear_max_age stays when a fast confirmed track passes
+  // over it; the ghost the mover left a moment ago, and cells without any static points,
+  // are told apart by when their static points began.
+  Fixture f(false);
+  ASSERT_GT(f.params.objects.clear_max_age, 0.0);
+  const double z = 0.5 * (f.params.map.band_z_min + f.params.map.band_z_max);
+  const int64_t dt = 100000;  // 10 Hz static frames
+  const int64_t old_span = int64_t((f.params.objects.clear_max_age + 1.0) * 1e6);
+  const int64_t now = kT0 + old_span;
+  for (int64_t t = kT0; t < now; t += dt) {
+    std::vector<Eigen::Vector2d> c{{3.0, 0.25}};                  // a pillar edge, seen all along
+    if (t >= now - 3 * dt) c.push_back(Eigen::Vector2d(3.0, -0.25));  // the mover's leak, new
+    f.node->onStatic(ringsAt(t, c, 0.05, z));
+  }
+  f.node->map().addCylinder(3.0, 0.25, 0.08);
+  f.node->map().addCylinder(3.0, -0.25, 0.08);
+  f.node->notifyMapChanged();
+  f.node->onPose(pose(now, 0, 0));
+  auto mover = object(1, 3.0, 0.0, 0.0, 1.0);
+  mover.size_x = mover.size_y = 0.7;  // its body covers both
+  f.node->onObjects(objects(now, {mover}));
+  EXPECT_TRUE(f.node->map().isOccupied(Eigen::Vector3d(3.0, 0.25, z)));
+  EXPECT_FALSE(f.node->map().isOccupied(Eigen::Vector3d(3.0, -0.25, z)));
   EXPECT_EQ(f.report.counter("cleared_under_movers"), 1);
 }

@@ -34,6 +34,7 @@ void SegmentationParams::read(ConfigReader& r) {
   r.read("track_support_distance", track_support_distance, 0.0, 10.0);
   r.read("vanish_max_gap", vanish_max_gap, 0.0, 5.0);
   r.read("split_max_size", split_max_size, 0.0, 50.0);
+  r.read("history_static_only", history_static_only);
   r.read("view_center_shift", view_center_shift, 0.0, 2.0);
   r.read("static_persistence", static_persistence, 0.0, 10.0);
   r.read("static_cell", static_cell, 0.02, 2.0);

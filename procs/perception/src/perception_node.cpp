@@ -322,6 +322,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
 
   PerceptionOutput out;
   out.objects = buildObjects(utime, cloud.seq);
+  const std::vector<char> tracked_point = dynamic_point;  // before persistence marks new structure
   t = stopwatch_();
   if (params_.segmentation.static_persistence > 0.0) {
     persistence_.update(utime, frame_points_, &persistent_);
@@ -331,7 +332,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   status_.time("persistence", elapsedMs(t));
   out.static_points = buildStatic(utime, *pose, dynamic_point);
   t = stopwatch_();
-  pushHistory(utime);
+  pushHistory(utime, tracked_point);
   status_.time("history", elapsedMs(t));
   last_output_utime_ = utime;
 
@@ -868,7 +869,7 @@ int PerceptionNode::angularBin(const Eigen::Vector3f& d) const {
   return binOf(anglesOf(d), params_.segmentation.free_space_bin_deg, az_bins_, el_bins_);
 }
 
-void PerceptionNode::pushHistory(int64_t utime) {
+void PerceptionNode::pushHistory(int64_t utime, const std::vector<char>& tracked_point) {
   const SegmentationParams& sp = params_.segmentation;
   const int64_t chunk_us = static_cast<int64_t>(sp.history_chunk * 1e6);
   if (history_.empty() || history_.back().closed) {
@@ -888,7 +889,15 @@ void PerceptionNode::pushHistory(int64_t utime) {
     m = std::max(m, ray.norm());
   }
   c.last_utime = utime;
-  c.points.insert(c.points.end(), frame_points_.begin(), frame_points_.end());
+  // Reference points: what this frame did not give to a track. A mover that turns back walks
+  // into its own trail; matched against it, it would look static. Free-space evidence above
+  // still includes it, so structure wrongly tracked for a moment is not taken for motion.
+  if (sp.history_static_only) {
+    for (std::size_t i = 0; i < frame_points_.size(); ++i)
+      if (!tracked_point[i]) c.points.push_back(frame_points_[i]);
+  } else {
+    c.points.insert(c.points.end(), frame_points_.begin(), frame_points_.end());
+  }
   if (utime - c.first_utime >= chunk_us) {
     c.index.build(c.points);
     c.points.clear();

@@ -432,13 +432,15 @@ void EsdfMap::setCell(const Eigen::Vector3d& p, bool occupied) {
   impl_->noteLeaf(key, v);
 }
 
-void EsdfMap::addCylinder(double x, double y, double radius, bool occupied) {
+void EsdfMap::addCylinder(double x, double y, double radius, bool occupied,
+                          const std::function<bool(double, double)>& keep_column) {
   const double res = impl_->tree.getResolution();
   const double z0 = impl_->params.band_z_min;
   const double z1 = impl_->params.band_z_max;
   for (double yy = std::floor((y - radius) / res) * res + 0.5 * res; yy <= y + radius; yy += res) {
     for (double xx = std::floor((x - radius) / res) * res + 0.5 * res; xx <= x + radius; xx += res) {
       if ((xx - x) * (xx - x) + (yy - y) * (yy - y) > radius * radius) continue;
+      if (keep_column && keep_column(xx, yy)) continue;
       for (double zz = std::floor(z0 / res) * res + 0.5 * res; zz <= z1 + 0.5 * res; zz += res) {
         setCell(Eigen::Vector3d(xx, yy, zz), occupied);
       }

@@ -52,6 +52,9 @@ PlannerNode::PlannerNode(const PlannerParams& params, StatusReport& report)
     : params_(params),
       report_(report),
       map_(params.map),
+      // Gaps up to 0.5 s (a return missing for a few frames) keep a run going; 512 cells of
+      // one leaf span more than the map's range around the robot twice over.
+      static_age_(params.map.resolution, 0.5, 512),
       field_(std::make_unique<Field>(map_)),
       optimizer_(params.optimizer, params.kalman) {}
 
@@ -124,7 +127,15 @@ void PlannerNode::onObjects(const tracked_objects_t& msg) {
     obstacles_.push_back(ob);
     if (op.clear_under_speed > 0.0 && o.state == tracked_object_t::STATE_CONFIRMED &&
         std::hypot(o.vx, o.vy) >= op.clear_under_speed && std::isfinite(diag)) {
-      map_.addCylinder(o.x, o.y, std::min(op.clear_max_radius, 0.5 * std::max(o.size_x, o.size_y)), false);
+      // Structure the mover passes has had points for long; its own leaked points are new.
+      // Columns with no current static points (occluded, e.g. by the mover) are left too.
+      const int64_t max_age_us = int64_t(std::llround(op.clear_max_age * kUsPerS));
+      const auto keep = [&](double cx, double cy) {
+        const int64_t since = static_age_.occupiedSince(cx, cy, msg.utime);
+        return since == CellAge::kNever || msg.utime - since > max_age_us;
+      };
+      map_.addCylinder(o.x, o.y, std::min(op.clear_max_radius, 0.5 * std::max(o.size_x, o.size_y)), false,
+                       op.clear_max_age > 0.0 ? std::function<bool(double, double)>(keep) : nullptr);
       map_dirty_ = true;
       report_.count("cleared_under_movers");
     }
@@ -148,6 +159,7 @@ void PlannerNode::onStatic(const static_points_t& msg) {
     const Eigen::Vector3f p(msg.x[i], msg.y[i], msg.z[i]);
     if (p.allFinite()) {
       pending_points_.push_back(p);
+      if (p.z() >= params_.map.band_z_min && p.z() <= params_.map.band_z_max) static_age_.hit(msg.utime, p.x(), p.y());
     } else {
       ++nan;
     }

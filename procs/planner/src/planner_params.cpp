@@ -21,6 +21,7 @@ void ObjectParams::read(ConfigReader& r) {
   r.read("include_tentative", include_tentative);
   r.read("clear_under_speed", clear_under_speed, 0.0, 10.0);
   r.read("clear_max_radius", clear_max_radius, 0.0, 5.0);
+  r.read("clear_max_age", clear_max_age, 0.0, 60.0);
 }
 
 void PlannerParams::read(ConfigReader& r) {

@@ -149,7 +149,7 @@ class PerceptionNode {
   tracked_objects_t buildObjects(int64_t utime, int64_t frame_seq) const;
   static_points_t buildStatic(int64_t utime, const Eigen::Isometry3d& T,
                               const std::vector<char>& dynamic_point) const;
-  void pushHistory(int64_t utime);
+  void pushHistory(int64_t utime, const std::vector<char>& tracked_point);
   double elapsedMs(double since) const { return (stopwatch_() - since) * 1e3; }
 
   PerceptionParams params_;

@@ -13,6 +13,8 @@
 
 #include <Eigen/Core>
 
+#include "ucon/cell_age.hpp"
+
 namespace ucon {
 namespace perception {
 
@@ -33,18 +35,9 @@ class StaticPersistence {
   void reset();
 
  private:
-  struct Slot {
-    int64_t key = INT64_MIN;  ///< packed cell coordinates; INT64_MIN = empty
-    int64_t first_utime = 0;  ///< start of the current run of hits [us]
-    int64_t last_utime = 0;   ///< newest hit [us]
-  };
-  double inv_cell_;
+  CellAge cells_;
   int64_t persistence_us_;
-  int64_t max_gap_us_;
-  int side_;
-  int mask_;
   int64_t last_utime_ = INT64_MIN;
-  std::vector<Slot> slots_;
   std::vector<int> point_slot_;
 };
 

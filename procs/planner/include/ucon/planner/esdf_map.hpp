@@ -11,6 +11,7 @@
 /// OctoMap and DynamicEDT3D stay inside esdf_map.cpp (pimpl).
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -82,8 +83,10 @@ class EsdfMap {
   /// map built from known geometry would (benchmark worlds, tests). Non-finite p is ignored.
   void setCell(const Eigen::Vector3d& p, bool occupied);
   /// Marks every leaf whose centre lies in the vertical cylinder (x, y, radius) within the
-  /// height band as occupied (or, with occupied false, as free).
-  void addCylinder(double x, double y, double radius, bool occupied = true);
+  /// height band as occupied (or, with occupied false, as free). With `keep_column`, the
+  /// columns whose centre (x, y) [m] it returns true for are left as they are.
+  void addCylinder(double x, double y, double radius, bool occupied = true,
+                   const std::function<bool(double, double)>& keep_column = nullptr);
   /// Marks every leaf whose centre lies in the axis-aligned box [x0,x1]x[y0,y1] within the
   /// height band as occupied.
   void addBox(double x0, double y0, double x1, double y1);

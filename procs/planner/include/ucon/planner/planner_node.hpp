@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "ucon/cell_age.hpp"
 #include "ucon/kalman/constant_velocity_kalman.hpp"
 #include "ucon/message_clock.hpp"
 #include "ucon/nav_goal_t.hpp"
@@ -124,6 +125,8 @@ class PlannerNode {
   PlannerParams params_;
   StatusReport& report_;
   EsdfMap map_;
+  /// Since when each map column has had static points (PlannerParams: objects.clear_max_age).
+  CellAge static_age_;
   MessageClock clock_;
   std::optional<robot_pose_t> pose_;
   std::vector<trajopt::PredictedObstacle> obstacles_;

@@ -33,6 +33,10 @@ struct ObjectParams {
   /// that leaked into PERCEPTION_STATIC are ghost obstacles) [m/s]; 0 = off.
   double clear_under_speed = 0.0;
   double clear_max_radius = 0.6;       ///< ... within at most this radius [m]
+  /// ... and only map columns whose current run of static points began at most this long ago
+  /// (a ghost the mover has just left; not structure it passes, nor columns without current
+  /// points) [s]; 0 = any column.
+  double clear_max_age = 2.0;
   void read(ConfigReader& r);
 };
 
