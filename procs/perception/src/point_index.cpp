@@ -2,7 +2,6 @@
 #include "ucon/perception/point_index.hpp"
 
 #include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/search/search.h>
@@ -11,7 +10,6 @@
 #include <nanoflann.hpp>
 
 #include <algorithm>
-#include <cmath>
 
 namespace ucon {
 namespace perception {
@@ -63,12 +61,22 @@ class NanoflannSearch : public pcl::search::Search<pcl::PointXYZ> {
     k_sqr_distances.clear();
     if (!tree_ || k <= 0 || input_->empty()) return 0;
     const std::size_t n = std::min<std::size_t>(std::size_t(k), input_->size());
-    std::vector<uint32_t> idx(n);
+    knn_idx_.resize(n);
     k_sqr_distances.resize(n);
-    const std::size_t found = tree_->knnSearch(point.data, n, idx.data(), k_sqr_distances.data());
+    const std::size_t found = tree_->knnSearch(point.data, n, knn_idx_.data(), k_sqr_distances.data());
     k_sqr_distances.resize(found);
-    for (std::size_t i = 0; i < found; ++i) k_indices.push_back(static_cast<pcl::index_t>(idx[i]));
+    for (std::size_t i = 0; i < found; ++i) k_indices.push_back(static_cast<pcl::index_t>(knn_idx_[i]));
     return static_cast<int>(found);
+  }
+
+  /// The nearest point without PCL's output vectors: index (-1 if empty) and squared distance.
+  int nearestOne(const float* q, float* dist2) const {
+    if (!tree_ || input_->empty()) return -1;
+    uint32_t idx = 0;
+    float d2 = 0.0f;
+    if (tree_->knnSearch(q, 1, &idx, &d2) < 1) return -1;
+    if (dist2) *dist2 = d2;
+    return static_cast<int>(idx);
   }
 
   int radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Indices& k_indices,
@@ -93,6 +101,7 @@ class NanoflannSearch : public pcl::search::Search<pcl::PointXYZ> {
   CloudAdaptor adaptor_;
   std::unique_ptr<NanoTree> tree_;
   mutable std::vector<std::pair<uint32_t, float>> matches_;
+  mutable std::vector<uint32_t> knn_idx_;
 };
 }  // namespace
 
@@ -120,15 +129,7 @@ int PointIndex::size() const { return impl_->cloud ? static_cast<int>(impl_->clo
 
 int PointIndex::nearest(const Eigen::Vector3f& q, float* dist2) const {
   if (!impl_->tree || !q.allFinite()) return -1;
-  pcl::PointXYZ p;
-  p.x = q.x();
-  p.y = q.y();
-  p.z = q.z();
-  pcl::Indices idx(1);
-  std::vector<float> d2(1);
-  if (impl_->tree->nearestKSearch(p, 1, idx, d2) < 1) return -1;
-  if (dist2) *dist2 = d2[0];
-  return idx[0];
+  return impl_->tree->nearestOne(q.data(), dist2);  // no allocation per query (re-association)
 }
 
 std::vector<std::vector<int>> PointIndex::clusters(double tolerance, int min_points,
