@@ -485,3 +485,47 @@ TEST(PerceptionNode, GivenAPersonMergedWithAWallTooLargeForAnObjectThenItsMovedP
   EXPECT_GT(with, 0.8);
   EXPECT_LT(without, 0.5);
 }
+
+namespace {
+
+// Two people walking in single file at 1.4 m/s, 1 m apart: the follower stands where the leader
+// stood 0.7 s earlier, inside the motion test's reference window. Returns in how many of the
+// frames 100..299 a confirmed track is within 0.4 m of the leader and of the follower, and the
+// follower's track identities.
+struct FileCount {
+  int leader = 0, follower = 0;
+  std::set<int64_t> follower_ids;
+};
+
+FileCount trackedInSingleFile(const PerceptionParams& p) {
+  PerceptionNode node(p);
+  const std::vector<scene::Person> people{{-4.0, -2.0, 1.4, 0.0}, {-5.0, -2.0, 1.4, 0.0}};
+  const RunResult r = run(node, 300, [&](int) { return people; }, kWalls);
+  FileCount c;
+  for (int k = 100; k < 300; ++k) {
+    const double t = k * 0.02;
+    const auto& o = r.objects[static_cast<std::size_t>(k)];
+    c.leader += nearestConfirmed(o, people[0].x(t), people[0].y(t), 0.4) ? 1 : 0;
+    if (const TO* b = nearestConfirmed(o, people[1].x(t), people[1].y(t), 0.4)) {
+      ++c.follower;
+      c.follower_ids.insert(b->id);
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST(PerceptionNode, GivenAPersonWalkingInAnothersFootstepsThenBothAreTrackedBecauseTrackedPointsAreNoReference) {
+  // The leader's points belong to its track, so they do not enter the motion test's history:
+  // the follower, walking through where the leader was, still moved.
+  const FileCount with = trackedInSingleFile(testParams());
+  EXPECT_EQ(with.leader, 200);
+  EXPECT_GT(with.follower, 120);
+  EXPECT_EQ(with.follower_ids.size(), 1u);
+  PerceptionParams off = testParams();
+  off.segmentation.history_static_only = false;
+  const FileCount without = trackedInSingleFile(off);
+  EXPECT_EQ(without.leader, 200);
+  EXPECT_LT(without.follower, 20);
+}

@@ -41,7 +41,7 @@ struct SegmentationParams {
   double free_space_margin = 0.3;   ///< a moved point also needs the reference to have seen this far past it along its ray [m]
   double track_support_distance = 0.8;  ///< a cluster this close to a live track's prediction is dynamic [m]
   double vanish_max_gap = 0.5;      ///< a new point at most this far behind a reference surface that has since gone moved (an object moving away) [m]; 0 = off
-  bool history_static_only = true;  ///< the motion test's reference history leaves out points the frame gave to tracks (a mover retracing its path is not matched against its own old points)
+  bool history_static_only = true;  ///< the motion test's reference history leaves out points the frame gave to tracks (someone walking in a tracked person's footsteps, or a mover retracing its path, is not matched against that trail)
   double split_max_size = 4.0;      ///< a cluster too large for an object but at most this large [m] gives its moved points as objects of their own (a mover brushing a pillar); 0 = off
   double view_center_shift = 0.3;   ///< an object seen from one side has its centre moved away from the sensor by up to this (footprint.hpp) [m]; 0 = off
   double static_persistence = 0.5;  ///< a point reaches PERCEPTION_STATIC once its x-y cell has been occupied this long [s]; 0 = off
