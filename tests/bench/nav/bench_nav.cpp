@@ -10,7 +10,11 @@
 // A run succeeds when every goal is reached within the timeout with no collision; it stops at
 // the goal, at the first collision or at the timeout. Prints a table and writes JSON
 // {"results": [{"n_dynamic", "runs", "success_rate", "collisions", "time_to_goal_s",
-//               "realtime_factor", "latency_ms": {"driver", "perception", "planner", "controller"}}]}.
+//               "realtime_factor", "tracking_recall", "velocity_error_mps",
+//               "latency_ms": {"driver", "perception", "planner", "controller"}}]}
+// (tracking_recall: median over runs of the share of visible movers within 10 m with a track
+// within 0.7 m; velocity_error_mps: median over runs of the mean |v_track - v_mover| of those
+// within 5 m of the robot).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -282,11 +286,18 @@ class MissionAdapter : public rp::NodeAdapter {
       for (const auto& o : m.objects) {
         if (o.visible <= 0.3 || std::hypot(o.x - m.robot_x, o.y - m.robot_y) > 10.0) continue;  // NaN: not computed
         ++recall_total_;
+        const ucon::tracked_object_t* near = nullptr;
+        double nd = 0.7;
         for (const auto& t : last_objects_.objects)
-          if (std::hypot(t.x - o.x, t.y - o.y) < 0.7) {
-            ++recall_hit_;
-            break;
+          if (std::hypot(t.x - o.x, t.y - o.y) < nd) nd = std::hypot(t.x - o.x, t.y - o.y), near = &t;
+        if (near) {
+          ++recall_hit_;
+          // Velocity error of the tracks of movers within 5 m: what the planner predicts with.
+          if (std::hypot(o.x - m.robot_x, o.y - m.robot_y) < 5.0) {
+            verr_sum_ += std::hypot(near->vx - o.vx, near->vy - o.vy);
+            ++verr_n_;
           }
+        }
       }
       if (!collided_ && (m.collision || m.num_collisions > 0)) {
         // What was hit: the nearest mover if the robot touches it, else a static obstacle.
@@ -345,6 +356,8 @@ class MissionAdapter : public rp::NodeAdapter {
 
  public:
   int64_t recall_total_ = 0, recall_hit_ = 0;
+  double verr_sum_ = 0.0;
+  int64_t verr_n_ = 0;
 
  private:
   std::string collision_with_;
@@ -428,7 +441,8 @@ struct RunResult {
   std::map<std::string, int64_t> messages;
   int64_t wheel_cmds_applied = 0;
   int64_t leaked_static = 0, static_points = 0;
-  double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m  ///< PERCEPTION_STATIC points on movers' bodies / all
+  double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
+  double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
   StageTimes stages[kNumStages];
   bool pipelineBroken(std::string* why) const {
     auto count = [&](const char* ch) {
@@ -530,6 +544,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
       rp::recordSimulatedRun(cfg, loop, [](const std::string&, int64_t, const std::vector<uint8_t>&) {});
   res.wall_s = msSince(t0) * 1e-3;
   res.recall = mission.recall_total_ ? double(mission.recall_hit_) / double(mission.recall_total_) : NAN;
+  res.velocity_error = mission.verr_n_ ? mission.verr_sum_ / double(mission.verr_n_) : NAN;
   if (perception_wrap) {
     res.leaked_static = perception_wrap->leaked_points_;
     res.static_points = perception_wrap->static_points_;
@@ -668,13 +683,13 @@ int main(int argc, char** argv) {
           std::printf("N_d=%3d seed=%4llu ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed, r.error.c_str());
         } else {
           std::printf("N_d=%3d seed=%4llu %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
-                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s\n",
+                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s\n",
                       r.n_dynamic, (unsigned long long)r.seed,
                       r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
                       r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
                       (long long)(r.messages.count(ucon::channels::kLidarPoints) ? r.messages.at(ucon::channels::kLidarPoints) : 0),
                       (long long)(r.messages.count(ucon::channels::kPlannerTrajectory) ? r.messages.at(ucon::channels::kPlannerTrajectory) : 0),
-                      r.sim_s > 0 ? r.leaked_static / r.sim_s : NAN, r.recall, percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
+                      r.sim_s > 0 ? r.leaked_static / r.sim_s : NAN, r.recall, r.velocity_error, percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
                       percentile(r.stages[2].samples_ms, 0.5), percentile(r.stages[3].samples_ms, 0.5),
                       r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, r.collision ? " | hit " : "",
                       r.collision ? (r.collision_with + " at robot speed " + num(r.robot_speed_at_hit) + " m/s").c_str() : "");
@@ -694,6 +709,7 @@ int main(int argc, char** argv) {
     std::vector<double> ttg;
     double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0;
     int hit_mover = 0, hit_static = 0;
+    std::vector<double> recall, verr;  // per run
     std::vector<double> samples[kNumStages];
     double stage_total_ms[kNumStages] = {0, 0, 0, 0};
     std::map<std::string, double> by_input_ms[kNumStages];
@@ -721,6 +737,8 @@ int main(int argc, char** argv) {
       row.wall_s += r.wall_s;
       row.cpu_s += r.cpu_s;
       if (r.collision) (r.hit_mover ? row.hit_mover : row.hit_static) += 1;
+      if (std::isfinite(r.recall)) row.recall.push_back(r.recall);
+      if (std::isfinite(r.velocity_error)) row.verr.push_back(r.velocity_error);
       for (int k = 0; k < kNumStages; ++k) {
         row.samples[k].insert(row.samples[k].end(), r.stages[k].samples_ms.begin(), r.stages[k].samples_ms.end());
         row.stage_total_ms[k] += r.stages[k].total_ms;
@@ -755,6 +773,11 @@ int main(int argc, char** argv) {
               " coll = runs that ended in a collision; t_goal = mean / median over successful runs)\n");
   std::printf("collisions with movers / static obstacles:");
   for (const auto& r : rows) std::printf("  N_d=%d: %d / %d", r.n_dynamic, r.hit_mover, r.hit_static);
+  std::printf("\n");
+  std::printf("tracking, median over runs: recall (visible movers within 10 m with a track within 0.7 m) / "
+              "velocity error of those within 5 m [m/s]:");
+  for (const auto& r : rows)
+    std::printf("  N_d=%d: %.3f / %.3f", r.n_dynamic, percentile(r.recall, 0.5), percentile(r.verr, 0.5));
   std::printf("\n");
   std::printf("\nWall time per simulated second [ms] (share of the loop): driver, perception, planner, "
               "controller, simulator+bus\n");
@@ -794,7 +817,9 @@ int main(int argc, char** argv) {
       js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << r.n_dynamic << ", \"runs\": " << r.runs
          << ", \"success_rate\": " << num(r.runs ? double(r.successes) / r.runs : NAN)
          << ", \"collisions\": " << r.collisions << ", \"time_to_goal_s\": " << num(mean(r.ttg))
-         << ", \"realtime_factor\": " << num(r.wall_s > 0 ? r.sim_s / r.wall_s : NAN) << ", \"latency_ms\": {";
+         << ", \"realtime_factor\": " << num(r.wall_s > 0 ? r.sim_s / r.wall_s : NAN)
+         << ", \"tracking_recall\": " << num(percentile(r.recall, 0.5))
+         << ", \"velocity_error_mps\": " << num(percentile(r.verr, 0.5)) << ", \"latency_ms\": {";
       for (int k = 0; k < kNumStages; ++k) {
         js << (k ? ", " : "") << "\"" << kStages[k] << "\": " << num(percentile(r.samples[k], 0.5));
       }
