@@ -23,7 +23,8 @@ bool CellAge::locate(double x, double y, int64_t* key, int* slot) const {
   const double fy = std::floor(y * inv_cell_);
   if (!std::isfinite(fx) || !std::isfinite(fy) || std::abs(fx) > 1e9 || std::abs(fy) > 1e9) return false;
   const auto ix = static_cast<int64_t>(fx), iy = static_cast<int64_t>(fy);
-  *key = (ix << 32) ^ (iy & 0xffffffffLL);
+  // Shifted as unsigned: left-shifting a negative signed value is undefined in C++17.
+  *key = static_cast<int64_t>((static_cast<uint64_t>(ix) << 32) ^ (static_cast<uint64_t>(iy) & 0xffffffffULL));
   *slot = static_cast<int>(((iy & mask_) * side_) + (ix & mask_));
   return true;
 }

@@ -889,8 +889,9 @@ void PerceptionNode::pushHistory(int64_t utime, const std::vector<char>& tracked
     m = std::max(m, ray.norm());
   }
   c.last_utime = utime;
-  // Reference points: what this frame did not give to a track. A mover that turns back walks
-  // into its own trail; matched against it, it would look static. Free-space evidence above
+  // Reference points: what this frame did not give to a track. Someone walking where a tracked
+  // person was (a follower, or the person itself turning back) would otherwise be matched
+  // against that trail and look static. Free-space evidence above
   // still includes it, so structure wrongly tracked for a moment is not taken for motion.
   if (sp.history_static_only) {
     for (std::size_t i = 0; i < frame_points_.size(); ++i)

@@ -288,8 +288,10 @@ class MissionAdapter : public rp::NodeAdapter {
         ++recall_total_;
         const ucon::tracked_object_t* near = nullptr;
         double nd = 0.7;
-        for (const auto& t : last_objects_.objects)
-          if (std::hypot(t.x - o.x, t.y - o.y) < nd) nd = std::hypot(t.x - o.x, t.y - o.y), near = &t;
+        for (const auto& t : last_objects_.objects) {
+          const double d = std::hypot(t.x - o.x, t.y - o.y);
+          if (d < nd) nd = d, near = &t;
+        }
         if (near) {
           ++recall_hit_;
           // Velocity error of the tracks of movers within 5 m: what the planner predicts with.
