@@ -9,6 +9,7 @@
 #include <random>
 #include <tuple>
 
+#include "ucon/perception/euclidean_clusters.hpp"
 #include "ucon/perception/point_index.hpp"
 #include "ucon/perception/proximity_index.hpp"
 
@@ -121,4 +122,66 @@ TEST(ProximityIndex, GivenBadInputThenFalseAndNonFinitePointsAreLeftOut) {
   index.build({});
   EXPECT_EQ(index.size(), 0);
   EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(1, 1, 1), 1.0f));
+}
+
+namespace {
+/// A LiDAR-like scene: walls, a pillar and a few people sampled on their surfaces at about
+/// the voxel size, with points exactly on cell boundaries and duplicates.
+Points sceneCloud(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Points pts;
+  for (float x = -6.0f; x <= 6.0f; x += 0.08f)
+    for (float z = 0.2f; z <= 2.0f; z += 0.08f) pts.emplace_back(x, 5.0f + 0.02f * u(rng), z);
+  for (int k = 0; k < 6; ++k) {
+    const float cx = -4.0f + 1.4f * float(k) + 0.3f * u(rng), cy = 1.0f + 2.0f * u(rng);
+    for (int a = 0; a < 24; ++a)
+      for (float z = 0.2f; z <= 1.7f; z += 0.08f)
+        pts.emplace_back(cx + 0.25f * std::cos(0.26f * float(a)), cy + 0.25f * std::sin(0.26f * float(a)), z);
+  }
+  for (int i = 0; i < 50; ++i) pts.push_back(pts[std::size_t(i * 7)]);       // duplicates
+  for (int i = 0; i < 20; ++i) pts.emplace_back(0.35f * float(i), 0.0f, 0.5f);  // a chain exactly tol apart
+  std::shuffle(pts.begin(), pts.end(), rng);
+  return pts;
+}
+}  // namespace
+
+TEST(EuclideanClusterer, GivenRandomAndSceneCloudsThenGroupsEqualBruteForceAndPcl) {
+  EuclideanClusterer ec;  // one instance: scratch reuse across calls must not leak state
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    for (const Points& pts : {randomCloud(600, seed, 4.0f), sceneCloud(seed)}) {
+      PointIndex index;
+      index.build(pts);
+      for (const auto& [tol, lo, hi] :
+           {std::tuple{0.35f, 4, 4000}, std::tuple{0.25f, 2, 500}, std::tuple{0.5f, 1, 100000}, std::tuple{0.12f, 1, 100000}}) {
+        const auto got = ec.cluster(pts, tol, lo, hi);
+        EXPECT_EQ(got, bruteClusters(pts, tol, lo, hi)) << "seed " << seed << " tol " << tol;
+        EXPECT_EQ(got, index.clusters(tol, lo, hi)) << "seed " << seed << " tol " << tol;
+        EXPECT_FALSE(got.empty()) << "seed " << seed << " tol " << tol << " n " << pts.size();
+      }
+    }
+  }
+}
+
+TEST(EuclideanClusterer, GivenAChainOfPointsExactlyTheToleranceApartThenTheyAreNotJoined) {
+  // PCL's radius search keeps neighbours strictly inside the radius; so does the grid.
+  Points pts;
+  for (int i = 0; i < 5; ++i) pts.emplace_back(0.5f * float(i), 0.0f, 0.0f);
+  EuclideanClusterer ec;
+  EXPECT_EQ(ec.cluster(pts, 0.5, 1, 10).size(), 5u);
+  EXPECT_EQ(ec.cluster(pts, 0.5001, 1, 10), (std::vector<std::vector<int>>{{0, 1, 2, 3, 4}}));
+}
+
+TEST(EuclideanClusterer, GivenBadInputThenNonFinitePointsAreLeftOutAndNothingBreaks) {
+  EuclideanClusterer ec;
+  EXPECT_TRUE(ec.cluster({}, 0.35, 1, 10).empty());
+  const Points pts{{0, 0, 0}, {NAN, 0, 0}, {0.1f, 0, 0}, {INFINITY, 1, 1}, {5, 5, 5}};
+  EXPECT_EQ(ec.cluster(pts, 0.35, 1, 10), (std::vector<std::vector<int>>{{0, 2}, {4}}));
+  EXPECT_TRUE(ec.cluster(pts, 0.0, 1, 10).empty());
+  EXPECT_TRUE(ec.cluster(pts, NAN, 1, 10).empty());
+  EXPECT_TRUE(ec.cluster({{NAN, NAN, NAN}}, 0.35, 1, 10).empty());
+  // Far apart points (sparse grid: cells looked up by binary search) give the same groups.
+  const Points sparse{{0, 0, 0}, {0.2f, 0, 0}, {30000, 0, 0}, {30000, 0.2f, 0}, {-30000, 20000, 3}};
+  EXPECT_EQ(ec.cluster(sparse, 0.35, 1, 10), (std::vector<std::vector<int>>{{0, 1}, {2, 3}, {4}}));
+  EXPECT_THROW(ec.cluster({{0, 0, 0}, {1e9f, 0, 0}}, 0.35, 1, 10), std::invalid_argument);
 }

@@ -217,7 +217,8 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
           tr.consecutive_reassoc < params_.reassociation.max_consecutive)
         lost.push_back(static_cast<int>(j));
     }
-    if (!lost.empty() && frame_index_.size() > 0) {
+    if (!lost.empty() && !frame_points_.empty()) {
+      frame_index_.build(frame_points_);  // only frames with a lost track need the KD-tree
       std::vector<HistoricalObject> objs;
       for (int j : lost) {
         const Track& tr = tracks_[j];
@@ -416,10 +417,9 @@ void PerceptionNode::predictTracks(int64_t utime) {
 void PerceptionNode::segment() {
   const SegmentationParams& s = params_.segmentation;
   double t0 = stopwatch_();
-  frame_index_.build(frame_points_);
   last_detections_.clear();
   point_moved_.assign(frame_points_.size(), 0);
-  const auto groups = frame_index_.clusters(s.cluster_tolerance, s.min_cluster_points, s.max_cluster_points);
+  const auto groups = clusterer_.cluster(frame_points_, s.cluster_tolerance, s.min_cluster_points, s.max_cluster_points);
   status_.time("cluster", elapsedMs(t0));
   t0 = stopwatch_();
   const int64_t now = last_frame_utime_;
@@ -509,9 +509,7 @@ void PerceptionNode::segment() {
           moved_idx.push_back(i);
         }
       if (static_cast<int>(moved_idx.size()) >= s.min_cluster_points) {
-        PointIndex sub;
-        sub.build(moved_pts);
-        for (const auto& c : sub.clusters(s.cluster_tolerance, s.min_cluster_points, s.max_cluster_points)) {
+        for (const auto& c : clusterer_.cluster(moved_pts, s.cluster_tolerance, s.min_cluster_points, s.max_cluster_points)) {
           std::vector<int> idx;
           for (int k : c) idx.push_back(moved_idx[static_cast<std::size_t>(k)]);
           Detection part = describe(idx);

@@ -1,4 +1,6 @@
-// All PCL use of the perception node lives in this file (PCL headers compile slowly).
+// All PCL use of the perception node lives in this file (PCL headers compile slowly). The node
+// clusters with EuclideanClusterer (same groups, faster); PointIndex::clusters stays as the PCL
+// reference it is tested against.
 #include "ucon/perception/point_index.hpp"
 
 #include <pcl/filters/voxel_grid.h>

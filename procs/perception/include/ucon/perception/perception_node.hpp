@@ -26,6 +26,7 @@
 #include "ucon/kalman/constant_velocity_kalman.hpp"
 #include "ucon/message_clock.hpp"
 #include "ucon/perception/association.hpp"
+#include "ucon/perception/euclidean_clusters.hpp"
 #include "ucon/perception/params.hpp"
 #include "ucon/perception/point_index.hpp"
 #include "ucon/perception/pose_buffer.hpp"
@@ -191,7 +192,8 @@ class PerceptionNode {
   Points frame_returns_;  ///< every return of the newest frame outside the robot's body, ground and far ones included: free-space evidence
   Points frame_points_;             ///< pre-processed, world frame
   std::vector<char> point_moved_;   ///< per frame point: failed the motion test (moved)
-  PointIndex frame_index_;
+  EuclideanClusterer clusterer_;    ///< clustering with reused scratch buffers
+  PointIndex frame_index_;          ///< KD-tree of frame_points_, built only when re-association runs
   std::vector<Detection> last_detections_;
   double last_frame_ms_ = 0.0;
 };

@@ -1,0 +1,148 @@
+#include "ucon/perception/euclidean_clusters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace ucon {
+namespace perception {
+
+namespace {
+/// Largest dense cell grid [cells] (16 MB of ints); a sparser cloud looks its cells up by
+/// binary search instead.
+constexpr int64_t kDenseLimit = int64_t(1) << 22;
+}  // namespace
+
+int EuclideanClusterer::findRoot(int c) {
+  while (parent_[static_cast<std::size_t>(c)] != c) {
+    auto& p = parent_[static_cast<std::size_t>(c)];
+    p = parent_[static_cast<std::size_t>(p)];  // path halving
+    c = p;
+  }
+  return c;
+}
+
+std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eigen::Vector3f>& points,
+                                                          double tolerance, int min_points, int max_points) {
+  std::vector<std::vector<int>> out;
+  const std::size_t n = points.size();
+  if (n == 0 || !(tolerance > 0.0) || !std::isfinite(tolerance)) return out;
+
+  // Cells of edge s < tolerance / sqrt(3): any two points of a cell are closer than the
+  // tolerance (a small margin keeps that true after float rounding).
+  const double s = tolerance / std::sqrt(3.0) * (1.0 - 1e-3);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    lo = lo.cwiseMin(p.cast<double>());
+    hi = hi.cwiseMax(p.cast<double>());
+  }
+  if (!(lo.x() <= hi.x())) return out;  // no finite point
+  const Eigen::Vector3d extent = (hi - lo) / s;
+  if (!(extent.maxCoeff() < 1e6))
+    throw std::invalid_argument("EuclideanClusterer: points span more than 1e6 cells of tolerance/sqrt(3) per axis");
+  // Cell coordinates are padded by `reach` cells on every side, so that a neighbour's key is
+  // plain key arithmetic with no bounds check (the padding holds no point).
+  const int reach = int(std::ceil(tolerance / s));
+  const int64_t nx = int64_t(extent.x()) + 1 + 2 * reach, ny = int64_t(extent.y()) + 1 + 2 * reach,
+                nz = int64_t(extent.z()) + 1 + 2 * reach;
+  const double inv_s = 1.0 / s;
+  const auto axis = [&](float v, double v0, int64_t cells_on_axis) {
+    return std::min<int64_t>(cells_on_axis - 1 - reach, int64_t((double(v) - v0) * inv_s) + reach);
+  };
+
+  sorted_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = points[i];
+    if (!p.allFinite()) continue;
+    const int64_t key = (axis(p.x(), lo.x(), nx) * ny + axis(p.y(), lo.y(), ny)) * nz + axis(p.z(), lo.z(), nz);
+    sorted_.emplace_back(key, static_cast<int>(i));
+  }
+  std::sort(sorted_.begin(), sorted_.end());
+  cell_begin_.clear();
+  cell_key_.clear();
+  for (std::size_t k = 0; k < sorted_.size(); ++k) {
+    if (cell_key_.empty() || cell_key_.back() != sorted_[k].first) {
+      cell_key_.push_back(sorted_[k].first);
+      cell_begin_.push_back(static_cast<int>(k));
+    }
+  }
+  const int cells = static_cast<int>(cell_key_.size());
+  cell_begin_.push_back(static_cast<int>(sorted_.size()));
+  parent_.resize(std::size_t(cells));
+  for (int c = 0; c < cells; ++c) parent_[std::size_t(c)] = c;
+
+  const bool dense = nx * ny * nz <= kDenseLimit;
+  if (dense) {
+    if (grid_.size() < std::size_t(nx * ny * nz)) grid_.assign(std::size_t(nx * ny * nz), -1);
+    for (int c = 0; c < cells; ++c) grid_[std::size_t(cell_key_[std::size_t(c)])] = c;
+  }
+  const auto lookup = [&](int64_t key) -> int {
+    if (dense) return grid_[std::size_t(key)];
+    const auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
+    return it != cell_key_.end() && *it == key ? int(it - cell_key_.begin()) : -1;
+  };
+
+  // Neighbour cells that can hold a point closer than the tolerance, each pair once, as key
+  // differences.
+  offsets_.clear();
+  for (int dx = 0; dx <= reach; ++dx)
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dz = -reach; dz <= reach; ++dz) {
+        if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;
+        const auto gap = [](int d) { return double(std::max(std::abs(d) - 1, 0)); };
+        const double g2 = (gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz)) * s * s;
+        if (g2 < tolerance * tolerance) offsets_.push_back((dx * ny + dy) * nz + dz);
+      }
+
+  const auto r2 = static_cast<float>(tolerance * tolerance);
+  const auto close = [&](int a, int b) {
+    const auto& p = points[std::size_t(a)];
+    const auto& q = points[std::size_t(b)];
+    const float dx = p.x() - q.x(), dy = p.y() - q.y(), dz = p.z() - q.z();
+    return dx * dx + dy * dy + dz * dz < r2;
+  };
+  for (int c = 0; c < cells; ++c) {
+    const int64_t key = cell_key_[std::size_t(c)];
+    for (const int64_t o : offsets_) {
+      const int d = lookup(key + o);
+      if (d < 0) continue;
+      const int rc = findRoot(c), rd = findRoot(d);
+      if (rc == rd) continue;
+      bool linked = false;
+      for (int a = cell_begin_[std::size_t(c)]; a < cell_begin_[std::size_t(c) + 1] && !linked; ++a)
+        for (int b = cell_begin_[std::size_t(d)]; b < cell_begin_[std::size_t(d) + 1] && !linked; ++b)
+          linked = close(sorted_[std::size_t(a)].second, sorted_[std::size_t(b)].second);
+      if (linked) parent_[std::size_t(rc)] = rd;
+    }
+  }
+  if (dense)
+    for (int c = 0; c < cells; ++c) grid_[std::size_t(cell_key_[std::size_t(c)])] = -1;
+
+  // Groups in order of their lowest point index; each group's indices ascending.
+  std::vector<int> group_of_root(std::size_t(cells), -1);
+  std::vector<int> cell_of_point(n, -1);
+  for (int c = 0; c < cells; ++c)
+    for (int k = cell_begin_[std::size_t(c)]; k < cell_begin_[std::size_t(c) + 1]; ++k)
+      cell_of_point[std::size_t(sorted_[std::size_t(k)].second)] = c;
+  std::vector<std::vector<int>> groups;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (cell_of_point[i] < 0) continue;
+    int& g = group_of_root[std::size_t(findRoot(cell_of_point[i]))];
+    if (g < 0) {
+      g = static_cast<int>(groups.size());
+      groups.emplace_back();
+    }
+    groups[std::size_t(g)].push_back(static_cast<int>(i));
+  }
+  for (auto& g : groups) {
+    const auto size = static_cast<int64_t>(g.size());
+    if (size >= min_points && size <= max_points) out.push_back(std::move(g));
+  }
+  return out;
+}
+
+}  // namespace perception
+}  // namespace ucon
