@@ -185,3 +185,23 @@ TEST(EuclideanClusterer, GivenBadInputThenNonFinitePointsAreLeftOutAndNothingBre
   EXPECT_EQ(ec.cluster(sparse, 0.35, 1, 10), (std::vector<std::vector<int>>{{0, 1}, {2, 3}, {4}}));
   EXPECT_THROW(ec.cluster({{0, 0, 0}, {1e9f, 0, 0}}, 0.35, 1, 10), std::invalid_argument);
 }
+
+TEST(ProximityIndex, GivenLargeRadiiAndQueriesOutsideTheCloudThenAnswersEqualBruteForce) {
+  const Points pts = sceneCloud(3);
+  ProximityIndex index;
+  index.build(pts);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-9.0f, 9.0f);
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3f q(u(rng), u(rng), 0.5f * u(rng));
+    float best = std::numeric_limits<float>::infinity();
+    for (const auto& p : pts) best = std::min(best, (p - q).squaredNorm());
+    for (const float r : {0.0f, 0.3f, 1.0f, 3.0f}) EXPECT_EQ(index.anyWithin(q, r * r), best <= r * r) << k << " r " << r;
+  }
+  // A cloud spanning kilometres (coarser cells) answers the same.
+  const Points far{{0, 0, 0}, {2000, 0, 0}, {0, -3000, 5}};
+  index.build(far);
+  EXPECT_TRUE(index.anyWithin(Eigen::Vector3f(1999.9f, 0.0f, 0.0f), 0.02f));
+  EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(1999.0f, 0.0f, 0.0f), 0.5f));
+  EXPECT_TRUE(index.anyWithin(Eigen::Vector3f(0.0f, -3000.0f, 4.0f), 1.0f));
+}
