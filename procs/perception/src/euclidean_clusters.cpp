@@ -122,15 +122,15 @@ std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eige
     for (int c = 0; c < cells; ++c) grid_[std::size_t(cell_key_[std::size_t(c)])] = -1;
 
   // Groups in order of their lowest point index; each group's indices ascending.
-  std::vector<int> group_of_root(std::size_t(cells), -1);
-  std::vector<int> cell_of_point(n, -1);
+  group_of_root_.assign(std::size_t(cells), -1);
+  cell_of_point_.assign(n, -1);
   for (int c = 0; c < cells; ++c)
     for (int k = cell_begin_[std::size_t(c)]; k < cell_begin_[std::size_t(c) + 1]; ++k)
-      cell_of_point[std::size_t(sorted_[std::size_t(k)].second)] = c;
+      cell_of_point_[std::size_t(sorted_[std::size_t(k)].second)] = c;
   std::vector<std::vector<int>> groups;
   for (std::size_t i = 0; i < n; ++i) {
-    if (cell_of_point[i] < 0) continue;
-    int& g = group_of_root[std::size_t(findRoot(cell_of_point[i]))];
+    if (cell_of_point_[i] < 0) continue;
+    int& g = group_of_root_[std::size_t(findRoot(cell_of_point_[i]))];
     if (g < 0) {
       g = static_cast<int>(groups.size());
       groups.emplace_back();

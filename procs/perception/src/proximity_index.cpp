@@ -66,9 +66,12 @@ void ProximityIndex::build(const std::vector<Eigen::Vector3f>& points) {
     if (p.allFinite()) ++m.start[std::size_t(cellOf(p)) + 1];
   for (std::size_t c = 1; c < m.start.size(); ++c) m.start[c] += m.start[c - 1];
   m.pts.resize(finite);
-  std::vector<uint32_t> fill(m.start.begin(), m.start.end() - 1);
+  // Scatter with start[c] as the fill position of cell c (it ends at the next cell's start),
+  // then shift the starts back by one cell: no second array.
   for (const auto& p : points)
-    if (p.allFinite()) m.pts[fill[std::size_t(cellOf(p))]++] = p;
+    if (p.allFinite()) m.pts[m.start[std::size_t(cellOf(p))]++] = p;
+  for (std::size_t c = m.start.size() - 1; c > 0; --c) m.start[c] = m.start[c - 1];
+  m.start[0] = 0;
 }
 
 int ProximityIndex::size() const { return static_cast<int>(impl_->pts.size()); }

@@ -33,10 +33,12 @@ class EuclideanClusterer {
   int findRoot(int c);
   std::vector<std::pair<int64_t, int>> sorted_;  // (cell key, point index) of finite points, sorted
   std::vector<int64_t> offsets_;     // key differences of the neighbour cells to test
-  std::vector<int> cell_begin_;      // per occupied cell: range in order_
+  std::vector<int> cell_begin_;      // per occupied cell: its range in sorted_ (one extra entry at the end)
   std::vector<int64_t> cell_key_;    // per occupied cell: its key (sorted)
   std::vector<int> parent_;          // union-find over occupied cells
   std::vector<int> grid_;            // dense key -> occupied cell (-1: empty); reset after use
+  std::vector<int> cell_of_point_;   // per point: its occupied cell (-1: not finite)
+  std::vector<int> group_of_root_;   // per union-find root: its group (-1: none yet)
 };
 
 }  // namespace perception
