@@ -1,8 +1,15 @@
 #include "ucon/replay/sim_recorder.hpp"
 
+#include <time.h>
+
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
 #include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
 
 #include "ucon/channels.hpp"
 #include "ucon/lidar_driver/lidar_driver_node.hpp"
@@ -60,14 +67,142 @@ trajectory_t scriptedPlan(int64_t t0, const Eigen::Vector2d& from, const Eigen::
   return m;
 }
 
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// A node on a worker thread of its own (RecorderConfig::async_delay_us). The loop's thread
+// queues inputs with their bus time; the worker feeds them in order and keeps every output
+// with its due time (input's bus time + delay). Before a step the loop takes the outputs due
+// by then, after waiting until the worker has handled every input that could produce one.
+class AsyncNode {
+ public:
+  struct Due {
+    int64_t due = 0;
+    OutputMessage msg;
+  };
+
+  AsyncNode(NodeAdapter* node, int64_t delay_us) : node_(node), delay_us_(delay_us) {
+    worker_ = std::thread([this] { run(); });
+  }
+  ~AsyncNode() { stop(); }
+
+  // Ends the worker (pending inputs are dropped) and returns its thread's CPU seconds.
+  double stop() {
+    if (worker_.joinable()) {
+      {
+        std::lock_guard<std::mutex> lk(m_);
+        quit_ = true;
+      }
+      cv_.notify_all();
+      worker_.join();
+    }
+    return cpu_s_;
+  }
+  AsyncNode(const AsyncNode&) = delete;
+  AsyncNode& operator=(const AsyncNode&) = delete;
+
+  NodeAdapter* node() const { return node_; }
+
+  void push(int64_t bus_time, const std::string& channel, const std::vector<uint8_t>& data) {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      in_.push_back({bus_time, channel, data});
+    }
+    times_.push_back(bus_time);
+    cv_.notify_all();
+  }
+
+  // Appends to `out` the outputs due at or before `t`, in production order. `on_wait`
+  // (optional) is called with true before and false after waiting for the worker.
+  void takeDue(int64_t t, std::vector<Due>* out, const std::function<void(bool)>& on_wait) {
+    // Inputs whose outputs are due by t: queued at bus time <= t - delay.
+    while (!times_.empty() && times_.front() + delay_us_ <= t) {
+      times_.pop_front();
+      ++needed_;
+    }
+    std::unique_lock<std::mutex> lk(m_);
+    const auto done = [&] { return handled_ >= needed_ || failed_; };
+    if (!done()) {
+      if (on_wait) on_wait(true);
+      cv_.wait(lk, done);
+      if (on_wait) on_wait(false);
+    }
+    if (failed_) throw std::runtime_error("async node " + node_->name() + ": " + error_);
+    while (!out_.empty() && out_.front().due <= t) {
+      out->push_back(std::move(out_.front()));
+      out_.pop_front();
+    }
+  }
+
+ private:
+  struct Input {
+    int64_t bus_time;
+    std::string channel;
+    std::vector<uint8_t> data;
+  };
+
+  void run() {
+    const double cpu0 = threadCpuSeconds();
+    std::vector<OutputMessage> outs;
+    for (;;) {
+      Input in;
+      {
+        std::unique_lock<std::mutex> lk(m_);
+        cv_.wait(lk, [&] { return quit_ || !in_.empty(); });
+        if (quit_) break;  // the run ended: pending inputs are not needed
+        in = std::move(in_.front());
+        in_.pop_front();
+      }
+      outs.clear();
+      std::string err;
+      try {
+        node_->feed(in.channel, in.data.data(), in.data.size(), &outs);
+      } catch (const std::exception& e) {
+        err = e.what();
+      }
+      {
+        std::lock_guard<std::mutex> lk(m_);
+        for (auto& o : outs) out_.push_back({in.bus_time + delay_us_, std::move(o)});
+        ++handled_;
+        if (!err.empty()) failed_ = true, error_ = err;
+      }
+      cv_.notify_all();
+      if (!err.empty()) break;
+    }
+    cpu_s_ = threadCpuSeconds() - cpu0;  // read by stop() after the join
+  }
+
+  NodeAdapter* node_;
+  int64_t delay_us_;
+  std::deque<int64_t> times_;  // loop thread only: bus times of inputs not yet required
+  int64_t needed_ = 0;         // loop thread only: inputs that must be handled before the next take
+  std::mutex m_;
+  std::condition_variable cv_;
+  std::deque<Input> in_;
+  std::deque<Due> out_;
+  int64_t handled_ = 0;
+  bool quit_ = false, failed_ = false;
+  std::string error_;
+  double cpu_s_ = 0.0;
+  std::thread worker_;
+};
+
 class Bus {
  public:
-  Bus(const std::vector<NodeAdapter*>& nodes, const EventSink& sink, simulator::Simulator& sim,
-      RecordSummary& summary)
-      : nodes_(nodes), sink_(sink), sim_(sim), summary_(summary) {}
+  Bus(const std::vector<NodeAdapter*>& nodes, const std::map<std::size_t, int64_t>& async_delay_us,
+      std::function<void(bool)> on_wait, const EventSink& sink, simulator::Simulator& sim, RecordSummary& summary)
+      : nodes_(nodes), on_wait_(std::move(on_wait)), sink_(sink), sim_(sim), summary_(summary), async_(nodes.size()) {
+    for (const auto& [i, d] : async_delay_us) async_[i] = std::make_unique<AsyncNode>(nodes[i], d);
+  }
 
-  // Publishes one message: to the log, to every consumer (their outputs depth first), and
-  // wheel commands to the simulated base.
+  // Bus time of what is published now (the step being run) [us].
+  void setTime(int64_t t) { now_ = t; }
+
+  // Publishes one message: to the log, to every consumer (their outputs depth first; an async
+  // node's are queued for later), and wheel commands to the simulated base.
   void publish(const std::string& channel, int64_t utime, const std::vector<uint8_t>& data) {
     sink_(channel, utime, data);
     ++summary_.messages[channel];
@@ -75,8 +210,13 @@ class Bus {
       wheel_cmd_t c;
       if (decodeExact(data.data(), data.size(), &c) && sim_.onWheelCmd(c)) ++summary_.wheel_cmds_applied;
     }
-    for (NodeAdapter* n : nodes_) {
+    for (std::size_t k = 0; k < nodes_.size(); ++k) {
+      NodeAdapter* n = nodes_[k];
       if (!n->consumes(channel)) continue;
+      if (async_[k]) {
+        async_[k]->push(now_, channel, data);
+        continue;
+      }
       std::vector<OutputMessage> outs;
       n->feed(channel, data.data(), data.size(), &outs);
       for (const auto& o : outs) publish(o.channel, o.utime, o.data);
@@ -87,11 +227,46 @@ class Bus {
     publish(channel, m.utime, encode(m));
   }
 
+  // Publishes the async nodes' outputs due at or before the current bus time: by due time,
+  // then node order, then production order.
+  void deliverDue() {
+    due_.clear();
+    for (std::size_t k = 0; k < async_.size(); ++k) {
+      if (!async_[k]) continue;
+      async_[k]->takeDue(now_, &scratch_, on_wait_);
+      for (auto& d : scratch_) due_.push_back({d.due, k, std::move(d.msg)});
+      scratch_.clear();
+    }
+    if (due_.empty()) return;
+    std::stable_sort(due_.begin(), due_.end(), [](const Pending& a, const Pending& b) {
+      return a.due != b.due ? a.due < b.due : a.node < b.node;
+    });
+    for (const auto& p : due_) publish(p.msg.channel, p.msg.utime, p.msg.data);
+  }
+
+  // Stops and joins the workers (pending inputs are dropped); returns their CPU seconds.
+  double stopWorkers() {
+    double cpu = 0.0;
+    for (auto& a : async_)
+      if (a) cpu += a->stop();
+    return cpu;
+  }
+
  private:
+  struct Pending {
+    int64_t due;
+    std::size_t node;
+    OutputMessage msg;
+  };
   const std::vector<NodeAdapter*>& nodes_;
+  std::function<void(bool)> on_wait_;
   const EventSink& sink_;
   simulator::Simulator& sim_;
   RecordSummary& summary_;
+  std::vector<std::unique_ptr<AsyncNode>> async_;
+  std::vector<AsyncNode::Due> scratch_;
+  std::vector<Pending> due_;
+  int64_t now_ = 0;
 };
 
 }  // namespace
@@ -104,9 +279,14 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
   simulator::Simulator sim(config.sim, config.scenario, opts);
   // The driver sees the emulated sensor at 127.0.0.1, as the live process does.
   lidar_driver::LidarDriverNode driver(config.driver, int64_t{0x7F000001});
-  Bus bus(nodes, sink, sim, summary);
+  for (const auto& [i, d] : config.async_delay_us) {
+    if (i >= nodes.size()) throw std::invalid_argument("async_delay_us: no node " + std::to_string(i));
+    if (d < config.step_us) throw std::invalid_argument("async_delay_us: delay below step_us for " + nodes[i]->name());
+  }
+  Bus bus(nodes, config.async_delay_us, config.on_wait, sink, sim, summary);
 
   const int64_t t0 = sim.utime();
+  bus.setTime(t0);
   if (!config.metadata.empty()) {
     log_metadata_t m{};
     m.utime = t0;
@@ -157,6 +337,8 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
   };
   int64_t last_t = t0;
   for (int64_t t = t0 + config.step_us; t <= end; t += config.step_us) {
+    bus.setTime(t);
+    bus.deliverDue();
     out.clear();
     sim.advanceTo(t, out);
     // Fixed order within a step: driver outputs (frames completed, IMU), poses, ground truth,
@@ -182,6 +364,7 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
     last_t = t;
     if (config.stop && config.stop()) break;
   }
+  summary.worker_cpu_s = bus.stopWorkers();
   summary.sim_time_s = static_cast<double>(last_t - t0) * 1e-6;
   summary.collision_episodes = sim.counters().collision_episodes;
   summary.final_x = sim.robot().x;

@@ -37,6 +37,7 @@
 #include "ucon/config.hpp"
 #include "ucon/lidar_driver/driver_params.hpp"
 #include "ucon/mission/mission_node.hpp"
+#include "ucon/planner/planner_params.hpp"
 #include "ucon/replay/node_adapter.hpp"
 #include "ucon/replay/sim_recorder.hpp"
 #include "ucon/runtime/config_file.hpp"
@@ -157,7 +158,6 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
         if (m.channel != ucon::channels::kPerceptionStatic || last_gt_.objects.empty()) continue;
         ucon::static_points_t s;
         if (!rp::decodeExact(m.data.data(), m.data.size(), &s)) continue;
-        last_static_ = s;
         // Leak: static points on a mover's body (within 0.1 m of its surface), movers within
         // 15 m of the robot. Each such point paints a ghost obstacle into the planner's map.
         {
@@ -228,7 +228,6 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
   bool replace_objects_, clean_static_;
  public:
   int64_t leaked_points_ = 0, static_points_ = 0;
-  ucon::static_points_t last_static_;  ///< the newest PERCEPTION_STATIC (as published)
 
  private:
   ucon::sim_ground_truth_t last_gt_;
@@ -245,7 +244,7 @@ class MissionAdapter : public rp::NodeAdapter {
   std::string name() const override { return "mission"; }
   std::vector<std::string> inputChannels() const override {
     return {ucon::channels::kRobotPose, ucon::channels::kSimGroundTruth, ucon::channels::kPerceptionObjects,
-            ucon::channels::kPlannerTrajectory};
+            ucon::channels::kPerceptionStatic, ucon::channels::kPlannerTrajectory};
   }
   std::vector<std::string> outputChannels() const override { return {ucon::channels::kNavGoal}; }
   std::vector<std::pair<std::string, int64_t>> counters() const override { return {{"goals_sent", goals_sent_}}; }
@@ -255,6 +254,11 @@ class MissionAdapter : public rp::NodeAdapter {
     if (channel == ucon::channels::kPerceptionObjects) {
       // Kept only to say, at a collision, whether perception tracked what was hit.
       if (!collided_ && !rp::decodeExact(data, size, &last_objects_)) return rp::FeedResult::kDecodeError;
+      return rp::FeedResult::kHandled;
+    }
+    if (channel == ucon::channels::kPerceptionStatic) {
+      // Kept as bytes (decoded only for a collision report): static points on the mover hit.
+      if (!collided_) last_static_ = std::make_shared<const std::vector<uint8_t>>(data, data + size);
       return rp::FeedResult::kHandled;
     }
     if (channel == ucon::channels::kPlannerTrajectory) {
@@ -278,7 +282,7 @@ class MissionAdapter : public rp::NodeAdapter {
       node_.onGroundTruth(m);
       // The last 2 s of ground truth with the tracks of the time, for the collision report.
       if (!collided_) {
-        recent_.push_back({m, last_objects_, last_plan_, probe_ ? probe_->last_static_ : ucon::static_points_t{}});
+        recent_.push_back({m, last_objects_, last_plan_, last_static_});
         if (recent_.size() > 100) recent_.pop_front();
       }
       // Tracking recall near the robot: movers within 10 m (and visible, where the simulator says)
@@ -369,9 +373,9 @@ class MissionAdapter : public rp::NodeAdapter {
     ucon::sim_ground_truth_t gt;
     ucon::tracked_objects_t tracks;
     std::string plan;
-    ucon::static_points_t statics;
+    std::shared_ptr<const std::vector<uint8_t>> statics;  ///< PERCEPTION_STATIC as published
   };
-  const OracleObjectsAdapter* probe_ = nullptr;
+  std::shared_ptr<const std::vector<uint8_t>> last_static_;
   std::deque<Snapshot> recent_;
   std::string history_;
 
@@ -391,8 +395,10 @@ class MissionAdapter : public rp::NodeAdapter {
         if (d < td) td = d, tr = &t;
       }
       int on_body = 0;  // static points published on the mover's body (a ghost the map keeps)
-      for (int q = 0; q < s.statics.num_points; ++q)
-        on_body += std::hypot(s.statics.x[q] - o->x, s.statics.y[q] - o->y) < o->radius + 0.1 ? 1 : 0;
+      ucon::static_points_t statics;
+      if (s.statics && rp::decodeExact(s.statics->data(), s.statics->size(), &statics))
+        for (int q = 0; q < statics.num_points; ++q)
+          on_body += std::hypot(statics.x[q] - o->x, statics.y[q] - o->y) < o->radius + 0.1 ? 1 : 0;
       char b[360];
       const double gap = std::hypot(o->x - s.gt.robot_x, o->y - s.gt.robot_y) - o->radius - s.gt.robot_radius;
       if (tr && td < 1.5)
@@ -411,7 +417,6 @@ class MissionAdapter : public rp::NodeAdapter {
 
  public:
   const std::string& history() const { return history_; }
-  void setProbe(const OracleObjectsAdapter* p) { probe_ = p; }
 
  private:
   double robot_speed_at_hit_ = NAN;
@@ -435,6 +440,7 @@ struct RunResult {
   bool success = false, collision = false, timeout = false;
   double time_to_goal_s = NAN;
   double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0;
+  double wait_s = 0.0;  ///< wall time the loop's thread waited for the worker threads (pipelined)
   double min_clearance = NAN;
   std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
   bool hit_mover = false;
@@ -465,7 +471,17 @@ struct Oracle {
   bool objects = false, static_map = false;
 };
 
-RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeout_s, Oracle oracle) {
+/// How the nodes share the machine: pipelined (perception and planner on threads of their
+/// own, as their processes run on the robot, with fixed delivery latencies) or serial (one
+/// thread, zero-latency bus).
+struct Pipeline {
+  bool serial = false;
+  int64_t perception_delay_us = 20000;  ///< one LiDAR frame period: a frame's objects are out before the next frame
+  int64_t planner_delay_us = 30000;     ///< planner.yaml latency_s: a plan is delivered when it starts
+};
+
+RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeout_s, Oracle oracle,
+                 const Pipeline& pipeline) {
   RunResult res;
   res.n_dynamic = n_dynamic;
   res.seed = seed;
@@ -512,7 +528,6 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     stage_nodes.push_back(node);
   }
   MissionAdapter mission(setup.mission, sc->robot.goals, timeout_s);
-  mission.setProbe(perception_wrap);
 
   // Mission first: a pose that reaches a goal updates it before the planner sees the pose.
   std::vector<rp::NodeAdapter*> loop{&mission};
@@ -539,6 +554,17 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     }
   };
   cfg.stop = [&] { return mission.reachedAll() || mission.collided() || mission.timedOut(); };
+  Clock::time_point wait_t0;
+  if (!pipeline.serial) {
+    cfg.async_delay_us[1] = pipeline.perception_delay_us;  // loop = mission, perception, planner, controller
+    cfg.async_delay_us[2] = pipeline.planner_delay_us;
+    cfg.on_wait = [&](bool waiting) {
+      if (waiting)
+        wait_t0 = Clock::now();
+      else
+        res.wait_s += msSince(wait_t0) * 1e-3;
+    };
+  }
 
   const auto t0 = Clock::now();
   const double cpu0 = threadCpuSeconds();
@@ -551,7 +577,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     res.leaked_static = perception_wrap->leaked_points_;
     res.static_points = perception_wrap->static_points_;
   }
-  res.cpu_s = threadCpuSeconds() - cpu0;
+  res.cpu_s = threadCpuSeconds() - cpu0 + s.worker_cpu_s;
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
@@ -600,6 +626,7 @@ int main(int argc, char** argv) {
   int jobs = 1;
   bool quick = false, verbose = false;
   Oracle oracle;
+  Pipeline pipeline;
   double timeout_s = 120.0;
   Setup setup;
   setup.config_dir = std::string(UCON_SOURCE_DIR) + "/deploy/config";
@@ -621,6 +648,9 @@ int main(int argc, char** argv) {
                "diagnosis: the planner gets the ground-truth movers within 12 m instead of perception's tracks");
   app.add_flag("--oracle-static", oracle.static_map,
                "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
+  app.add_flag("--serial", pipeline.serial,
+               "run every node on the loop's thread with a zero-latency bus (default: perception and planner "
+               "on threads of their own, outputs delivered after a fixed latency)");
   CLI11_PARSE(app, argc, argv);
   if (quick) {
     if (app.count("--seeds") == 0) seeds = 1;
@@ -654,6 +684,16 @@ int main(int argc, char** argv) {
     }
     setup.node_yaml[n] = *t;
   }
+  {
+    // Pipeline latencies: a LiDAR frame period for perception, the planner's own latency_s.
+    ucon::planner::PlannerParams pp;
+    if (!loadParamsFile(setup.config_dir + "/planner.yaml", &pp, nullptr, &err)) {
+      std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
+      return 2;
+    }
+    pipeline.perception_delay_us = std::llround(1e6 / setup.sim.frame_rate_hz);
+    pipeline.planner_delay_us = std::max<int64_t>(std::llround(pp.latency_s * 1e6), 1000);
+  }
   std::vector<int> density_list;
   for (const auto& d : split(densities)) {
     const int n = std::atoi(d.c_str());
@@ -677,7 +717,7 @@ int main(int argc, char** argv) {
   const auto bench_t0 = Clock::now();
   auto worker = [&] {
     for (std::size_t i = next++; i < tasks.size(); i = next++) {
-      results[i] = runOne(setup, tasks[i].n_dynamic, tasks[i].seed, timeout_s, oracle);
+      results[i] = runOne(setup, tasks[i].n_dynamic, tasks[i].seed, timeout_s, oracle, pipeline);
       const auto& r = results[i];
       if (verbose || !r.ok) {
         std::lock_guard<std::mutex> lock(print_mutex);
@@ -709,7 +749,7 @@ int main(int argc, char** argv) {
     int n_dynamic = 0;
     int runs = 0, successes = 0, collisions = 0, timeouts = 0;
     std::vector<double> ttg;
-    double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0;
+    double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
     int hit_mover = 0, hit_static = 0;
     std::vector<double> recall, verr;  // per run
     std::vector<double> samples[kNumStages];
@@ -738,6 +778,7 @@ int main(int argc, char** argv) {
       row.sim_s += r.sim_s;
       row.wall_s += r.wall_s;
       row.cpu_s += r.cpu_s;
+      row.wait_s += r.wait_s;
       if (r.collision) (r.hit_mover ? row.hit_mover : row.hit_static) += 1;
       if (std::isfinite(r.recall)) row.recall.push_back(r.recall);
       if (std::isfinite(r.velocity_error)) row.verr.push_back(r.velocity_error);
@@ -760,6 +801,12 @@ int main(int argc, char** argv) {
               "threads, %d jobs, %.1f s wall)\n",
               seeds, (unsigned long long)seed_base, timeout_s, std::thread::hardware_concurrency(), jobs,
               bench_wall_s);
+  if (pipeline.serial)
+    std::printf("serial: every node on the loop's thread, zero-latency bus\n");
+  else
+    std::printf("pipelined: perception and planner on threads of their own (per run), their outputs delivered "
+                "%.0f ms and %.0f ms after their inputs (--serial: one thread)\n",
+                1e-3 * double(pipeline.perception_delay_us), 1e-3 * double(pipeline.planner_delay_us));
   std::printf("%5s %5s | %8s %5s %6s | %9s %9s | %6s %6s | %s\n", "N_d", "runs", "succ[%]", "coll", "tmout",
               "t_goal[s]", "t_goal_md", "RT x", "RT cpu", "median latency [ms]: driver/frame  perception/frame  "
               "planner/plan  controller/tick");
@@ -770,8 +817,8 @@ int main(int argc, char** argv) {
                 r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, percentile(r.samples[0], 0.5),
                 percentile(r.samples[1], 0.5), percentile(r.samples[2], 0.5), percentile(r.samples[3], 0.5));
   }
-  std::printf("(RT x = simulated seconds / wall seconds of the whole loop, simulator included, per run thread;\n"
-              " RT cpu = simulated seconds / CPU seconds of that thread, i.e. without waiting for a core;\n"
+  std::printf("(RT x = simulated seconds / wall seconds of the whole loop, simulator included, per run;\n"
+              " RT cpu = simulated seconds / CPU seconds of the run's threads together, i.e. of one core doing it all;\n"
               " coll = runs that ended in a collision; t_goal = mean / median over successful runs)\n");
   std::printf("collisions with movers / static obstacles:");
   for (const auto& r : rows) std::printf("  N_d=%d: %d / %d", r.n_dynamic, r.hit_mover, r.hit_static);
@@ -781,18 +828,27 @@ int main(int argc, char** argv) {
   for (const auto& r : rows)
     std::printf("  N_d=%d: %.3f / %.3f", r.n_dynamic, percentile(r.recall, 0.5), percentile(r.verr, 0.5));
   std::printf("\n");
-  std::printf("\nWall time per simulated second [ms] (share of the loop): driver, perception, planner, "
-              "controller, simulator+bus\n");
+  if (pipeline.serial)
+    std::printf("\nWall time per simulated second [ms] (share of the loop): driver, perception, planner, "
+                "controller, simulator+bus\n");
+  else
+    std::printf("\nWall time per simulated second [ms] (share of the run's wall time): nodes (perception and "
+                "planner on their own threads, overlapping the loop), then the loop thread's waits for them and "
+                "the rest of the loop thread (simulator+bus)\n");
   for (const auto& r : rows) {
     if (r.sim_s <= 0) continue;
-    double staged = 0.0;
+    double on_loop = 0.0;
     std::printf("%5d |", r.n_dynamic);
     for (int k = 0; k < kNumStages; ++k) {
-      staged += r.stage_total_ms[k];
+      if (pipeline.serial || k == 0 || k == 3) on_loop += r.stage_total_ms[k];
       std::printf(" %s %7.1f (%4.1f%%)", kStages[k], r.stage_total_ms[k] / r.sim_s,
                   100.0 * r.stage_total_ms[k] / (1e3 * r.wall_s));
     }
-    const double rest = 1e3 * r.wall_s - staged;
+    if (!pipeline.serial) {
+      on_loop += 1e3 * r.wait_s;
+      std::printf(" | waiting %7.1f (%4.1f%%)", 1e3 * r.wait_s / r.sim_s, 100.0 * r.wait_s / r.wall_s);
+    }
+    const double rest = 1e3 * r.wall_s - on_loop;
     std::printf(" | rest %7.1f (%4.1f%%)\n", rest / r.sim_s, 100.0 * rest / (1e3 * r.wall_s));
   }
   std::printf("Node wall time per simulated second by input channel [ms]:\n");
@@ -820,6 +876,8 @@ int main(int argc, char** argv) {
          << ", \"success_rate\": " << num(r.runs ? double(r.successes) / r.runs : NAN)
          << ", \"collisions\": " << r.collisions << ", \"time_to_goal_s\": " << num(mean(r.ttg))
          << ", \"realtime_factor\": " << num(r.wall_s > 0 ? r.sim_s / r.wall_s : NAN)
+         << ", \"realtime_factor_cpu\": " << num(r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN)
+         << ", \"pipelined\": " << (pipeline.serial ? "false" : "true")
          << ", \"tracking_recall\": " << num(percentile(r.recall, 0.5))
          << ", \"velocity_error_mps\": " << num(percentile(r.verr, 0.5)) << ", \"latency_ms\": {";
       for (int k = 0; k < kNumStages; ++k) {

@@ -50,6 +50,20 @@ struct RecorderConfig {
   std::function<void(std::size_t frames_completed)> after_driver;
   /// Checked after every step; true ends the run before duration_s (e.g. goal reached).
   std::function<bool()> stop;
+
+  /// Pipelining (ucon-bench-nav): nodes listed here (index into `nodes` -> delay [us]) run on a
+  /// worker thread each, as their processes do on the robot, instead of on the loop's thread.
+  /// Their inputs are queued in bus order; an output becomes due `delay` after the bus time of
+  /// the input that caused it and is published at the first step at or after that (before the
+  /// simulator's messages of that step), waiting for the worker if it is behind. The outputs
+  /// and the message order therefore depend only on the inputs, never on thread timing: the
+  /// run is as deterministic as the lock-step loop, with a fixed latency per node in place of
+  /// the zero-latency bus. A delay must be at least step_us. The log then holds a node's
+  /// outputs at their delivery time (their utime stays the node's own): meant for harnesses,
+  /// not for recording logs to replay.
+  std::map<std::size_t, int64_t> async_delay_us;
+  /// Called with true just before the loop waits for a worker that is behind, false after.
+  std::function<void(bool waiting)> on_wait;
 };
 
 /// Receives every message in publication order: channel, utime [us] (used as the event
@@ -63,6 +77,7 @@ struct RecordSummary {
   double min_clearance = 0.0;               ///< [m]
   double sim_time_s = 0.0;                  ///< simulated seconds run (< duration_s if stopped)
   int64_t collision_episodes = 0;           ///< simulator's count
+  double worker_cpu_s = 0.0;                ///< CPU seconds of the async nodes' worker threads
 };
 
 /// Runs the closed loop for config.duration_s. `nodes` are fed in the given order.
