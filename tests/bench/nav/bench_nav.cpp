@@ -161,15 +161,32 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
         // Leak: static points on a mover's body (within 0.1 m of its surface), movers within
         // 15 m of the robot. Each such point paints a ghost obstacle into the planner's map.
         {
-          std::vector<const ucon::sim_object_t*> near_movers;
-          for (const auto& g : last_gt_.objects)
-            if (std::hypot(g.x - last_gt_.robot_x, g.y - last_gt_.robot_y) < 15.0) near_movers.push_back(&g);
-          for (int k = 0; k < s.num_points; ++k)
-            for (const auto* g : near_movers)
-              if (std::hypot(s.x[k] - g->x, s.y[k] - g->y) < g->radius + 0.1) {
+          // Squared distances, movers first cut to the cloud's bounding box: this probe runs on
+          // perception's thread and must not slow the pipeline down.
+          float x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+          for (int k = 0; k < s.num_points; ++k) {
+            x0 = std::min(x0, s.x[k]), x1 = std::max(x1, s.x[k]);
+            y0 = std::min(y0, s.y[k]), y1 = std::max(y1, s.y[k]);
+          }
+          struct Disc {
+            float x, y, r2;
+          };
+          std::vector<Disc> near_movers;
+          for (const auto& g : last_gt_.objects) {
+            const float reach = static_cast<float>(g.radius + 0.1);
+            if (std::hypot(g.x - last_gt_.robot_x, g.y - last_gt_.robot_y) >= 15.0 || g.x + reach < x0 ||
+                g.x - reach > x1 || g.y + reach < y0 || g.y - reach > y1)
+              continue;
+            near_movers.push_back({static_cast<float>(g.x), static_cast<float>(g.y), reach * reach});
+          }
+          for (int k = 0; k < s.num_points && !near_movers.empty(); ++k)
+            for (const auto& g : near_movers) {
+              const float dx = s.x[k] - g.x, dy = s.y[k] - g.y;
+              if (dx * dx + dy * dy < g.r2) {
                 ++leaked_points_;
                 break;
               }
+            }
           static_points_ += s.num_points;
         }
         if (clean_static_) {
