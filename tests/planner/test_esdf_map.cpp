@@ -132,6 +132,45 @@ TEST(EsdfMap, GivenInsertionsAndClearingsWhenUpdatedIncrementallyThenSliceEquals
   EXPECT_EQ(differing, 0);
 }
 
+TEST(EsdfMap, GivenManyIncrementalUpdatesThenTheSliceKeptNearChangesEqualsAFullRecomputation) {
+  // The slice is recomputed only within max_distance (+ margin) of projection cells that
+  // changed; every other cell must already hold what a full pass over the distance transform
+  // gives, bit for bit, also inside obstacles and near the box edge. Scans, single-cell writes,
+  // cleared discs and blocks of obstacles, with the robot moving inside the box.
+  MapParams p = smallParams();
+  p.recenter_distance = 3.0;
+  EsdfMap m(p);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), height(0.12, 0.45), dist(0.5, 3.9);
+  std::uniform_int_distribution<int> cell(-42, 41);
+  int incremental = 0, occupied_max = 0;
+  for (int step = 0; step < 60; ++step) {
+    const Eigen::Vector3d origin(0.03 * (step % 7), -0.02 * (step % 5), 0.25);
+    std::vector<Eigen::Vector3f> pts;
+    const float shrink = step % 10 < 5 ? 1.0f : 0.7f;
+    for (int i = 0; i < 200; ++i) {
+      const double a = ang(rng), r = dist(rng);
+      pts.emplace_back(float(origin.x() + shrink * r * std::cos(a)), float(origin.y() + shrink * r * std::sin(a)),
+                       float(height(rng)));
+    }
+    ASSERT_EQ(m.insert(origin, pts, 4.5), ucon::planner::InsertStatus::kOk);
+    if (step % 3 == 0)
+      for (int k = 0; k < 15; ++k) occupy(m, {cell(rng), cell(rng)}, k % 3 != 0);
+    if (step % 5 == 2) m.addBox(-3.9, 2.5, -2.8, 3.9);   // a block at the box edge, then cleared
+    if (step % 5 == 4) m.addCylinder(-3.3, 3.2, 0.7, false);
+    if (step % 7 == 3) m.addCylinder(0.5, 0.5, 0.6, false);
+    const bool rebuilt = m.update(Eigen::Vector2d(0.01 * step, -0.005 * step));
+    incremental += rebuilt ? 0 : 1;
+    ASSERT_EQ(m.sliceMismatches(), 0u) << "step " << step;
+    int occupied = 0;
+    for (int iy = 0; iy < m.slice().ny; ++iy)
+      for (int ix = 0; ix < m.slice().nx; ++ix) occupied += m.cellDistance(ix, iy) <= 0.0 ? 1 : 0;
+    occupied_max = std::max(occupied_max, occupied);
+  }
+  EXPECT_GT(incremental, 50);     // the incremental path ran
+  EXPECT_GT(occupied_max, 100);   // with real obstacles in the slice
+}
+
 TEST(EsdfMap, GivenTheRobotMovesFarWhenUpdatedThenTheBoxIsRebuiltAroundIt) {
   EsdfMap map(smallParams());
   occupy(map, {60, 0}, true);  // at x = 6.05, outside the first box

@@ -190,8 +190,12 @@ struct EsdfMap::Impl {
       const auto* existing = flat.search(fk);
       if (existing ? flat.isNodeOccupied(existing) == occ : !occ) continue;  // unchanged (unknown = free)
       flat.setNodeValue(fk, occ ? flat.getClampingThresMaxLog() : flat.getClampingThresMinLog());
+      flat_changed.emplace_back(kx, ky);
     }
   }
+  /// Projection cells whose occupancy changed since the slice was last computed.
+  std::vector<std::pair<octomap::key_type, octomap::key_type>> flat_changed;
+  std::vector<uint8_t> dirty;  // per slice cell: to be recomputed (incremental computeSlice)
 
   void rebuild(const Eigen::Vector2d& c) {
     const double h = params.box_half_size;
@@ -209,62 +213,126 @@ struct EsdfMap::Impl {
     ++rebuilds;
   }
 
-  void computeSlice() {
+  /// The slice's value of cell i from the distance transform (occupied: 0 for now, see
+  /// computeInterior).
+  void sliceCell(int ix, int iy, float half, float cap) {
+    const octomap::OcTreeKey k(key_min[0] + ix, key_min[1] + iy, key_min[2]);
+    const float dmin = edt->getDistance_unsafe(k);
+    const std::size_t i = std::size_t(iy) * std::size_t(slice.nx) + std::size_t(ix);
+    if (dmin <= 0.0f) {
+      occupied[i] = 1;
+      values[i] = 0.0f;
+    } else {
+      // Distance from this cell centre to the nearest occupied cell's boundary (approx.).
+      occupied[i] = 0;
+      values[i] = std::min(cap, dmin - half);
+    }
+  }
+
+  /// Fills the 2-D slice from the distance transform. `full` after a rebuild; otherwise only
+  /// the cells near projection cells that changed since the last call: a change moves the
+  /// distance transform only within max_distance of it, and the interior distances only
+  /// within max_distance + half a cell, so every other cell keeps its value (same values as
+  /// a full pass, tested).
+  void computeSlice(bool full) {
     const int nx = key_max[0] - key_min[0] + 1;
     const int ny = key_max[1] - key_min[1] + 1;
     const double res = tree.getResolution();
-    const octomap::point3d corner = tree.keyToCoord(key_min);
-    slice.origin = Eigen::Vector2d(corner.x() - 0.5 * res, corner.y() - 0.5 * res);
-    slice.resolution = res;
-    slice.nx = nx;
-    slice.ny = ny;
-    const std::size_t n = std::size_t(nx) * std::size_t(ny);
-    values.assign(n, 0.0f);
-    occupied.assign(n, 0);
-    bool any_occupied = false;
     const float half = float(0.5 * res);
     const float cap = float(params.max_distance);
-    for (int iy = 0; iy < ny; ++iy) {
-      for (int ix = 0; ix < nx; ++ix) {
-        const octomap::OcTreeKey k(key_min[0] + ix, key_min[1] + iy, key_min[2]);
-        const float dmin = edt->getDistance_unsafe(k);
-        const std::size_t i = std::size_t(iy) * nx + ix;
-        if (dmin <= 0.0f) {
-          occupied[i] = 1;
-          any_occupied = true;
-        } else {
-          // Distance from this cell centre to the nearest occupied cell's boundary (approx.).
-          values[i] = std::min(cap, dmin - half);
-        }
-      }
+    const std::size_t n = std::size_t(nx) * std::size_t(ny);
+    if (full || slice.nx != nx || slice.ny != ny || values.size() != n) {
+      const octomap::point3d corner = tree.keyToCoord(key_min);
+      slice.origin = Eigen::Vector2d(corner.x() - 0.5 * res, corner.y() - 0.5 * res);
+      slice.resolution = res;
+      slice.nx = nx;
+      slice.ny = ny;
+      values.assign(n, 0.0f);
+      occupied.assign(n, 0);
+      for (int iy = 0; iy < ny; ++iy)
+        for (int ix = 0; ix < nx; ++ix) sliceCell(ix, iy, half, cap);
+      flat_changed.clear();
+      computeInterior(0, 0, nx, ny, nullptr);
+      return;
     }
-    if (any_occupied) computeInterior(nx, ny, half, cap);
+    if (flat_changed.empty()) return;
+    // Cells within r of a change (Chebyshev, in cells) and their bounding box.
+    const int r = int(std::ceil((params.max_distance + res) / res)) + 2;
+    dirty.assign(n, 0);
+    int x0 = nx, y0 = ny, x1 = -1, y1 = -1;
+    for (const auto& [kx, ky] : flat_changed) {
+      const int cx = int(kx) - int(key_min[0]), cy = int(ky) - int(key_min[1]);
+      const int ax = std::max(0, cx - r), bx = std::min(nx - 1, cx + r);
+      const int ay = std::max(0, cy - r), by = std::min(ny - 1, cy + r);
+      if (ax > bx || ay > by) continue;  // outside the box
+      for (int iy = ay; iy <= by; ++iy)
+        std::fill(dirty.begin() + std::ptrdiff_t(std::size_t(iy) * nx + ax),
+                  dirty.begin() + std::ptrdiff_t(std::size_t(iy) * nx + bx + 1), uint8_t(1));
+      x0 = std::min(x0, ax), y0 = std::min(y0, ay), x1 = std::max(x1, bx), y1 = std::max(y1, by);
+    }
+    flat_changed.clear();
+    if (x1 < 0) return;
+    for (int iy = y0; iy <= y1; ++iy)
+      for (int ix = x0; ix <= x1; ++ix)
+        if (dirty[std::size_t(iy) * nx + ix]) sliceCell(ix, iy, half, cap);
+    // Interior distances of the dirty cells need the free cells up to r beyond them.
+    computeInterior(std::max(0, x0 - r), std::max(0, y0 - r), std::min(nx, x1 + r + 1), std::min(ny, y1 + r + 1),
+                    &dirty);
+  }
+
+  /// The slice recomputed in full from the distance transform, compared value for value with
+  /// the incrementally kept one: the number of differing cells.
+  std::size_t sliceMismatches() {
+    const std::vector<float> kept_values = values;
+    const std::vector<uint8_t> kept_occupied = occupied;
+    const auto kept_changed = flat_changed;
+    computeSlice(true);
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < values.size(); ++i)
+      bad += (values[i] != kept_values[i] || occupied[i] != kept_occupied[i]) ? 1 : 0;
+    values = kept_values;
+    occupied = kept_occupied;
+    flat_changed = kept_changed;
+    return bad;
   }
 
   /// Inside obstacles: minus the distance to the nearest free cell (so the optimiser has a
   /// gradient that pushes out of an obstacle instead of a flat zero).
-  void computeInterior(int nx, int ny, float half, float cap) {
+  /// Window [wx0, wx1) x [wy0, wy1) of the slice; writes the occupied cells of the window
+  /// (only those marked in `only`, if given). A window reaching max_distance + half a cell
+  /// beyond the written cells gives them the same values as the whole slice would.
+  void computeInterior(int wx0, int wy0, int wx1, int wy1, const std::vector<uint8_t>* only) {
+    const int nx = slice.nx;
+    const int wnx = wx1 - wx0, wny = wy1 - wy0;
+    if (wnx <= 0 || wny <= 0) return;
+    const float half = float(0.5 * slice.resolution);
+    const float cap = float(params.max_distance);
     const float inf = std::numeric_limits<float>::infinity();
-    const int m = std::max(nx, ny);
-    scratch_f.resize(std::size_t(nx) * ny);
+    const int m = std::max(wnx, wny);
+    bool any_occupied = false;
+    for (int iy = wy0; iy < wy1 && !any_occupied; ++iy)
+      for (int ix = wx0; ix < wx1 && !any_occupied; ++ix) any_occupied = occupied[std::size_t(iy) * nx + ix] != 0;
+    if (!any_occupied) return;
+    scratch_f.resize(std::size_t(wnx) * wny);
     scratch_col.resize(m);
     scratch_d.resize(m);
     scratch_z.resize(m + 1);
     scratch_v.resize(m);
-    for (std::size_t i = 0; i < scratch_f.size(); ++i) scratch_f[i] = occupied[i] ? inf : 0.0f;
+    for (int iy = 0; iy < wny; ++iy)
+      for (int ix = 0; ix < wnx; ++ix)
+        scratch_f[std::size_t(iy) * wnx + ix] = occupied[std::size_t(iy + wy0) * nx + ix + wx0] ? inf : 0.0f;
     // Columns (along y) then rows (along x).
-    for (int ix = 0; ix < nx; ++ix) {
-      for (int iy = 0; iy < ny; ++iy) scratch_col[iy] = scratch_f[std::size_t(iy) * nx + ix];
-      distanceTransform1d(scratch_col.data(), ny, scratch_d.data(), scratch_v.data(),
-                          scratch_z.data());
-      for (int iy = 0; iy < ny; ++iy) scratch_f[std::size_t(iy) * nx + ix] = scratch_d[iy];
+    for (int ix = 0; ix < wnx; ++ix) {
+      for (int iy = 0; iy < wny; ++iy) scratch_col[iy] = scratch_f[std::size_t(iy) * wnx + ix];
+      distanceTransform1d(scratch_col.data(), wny, scratch_d.data(), scratch_v.data(), scratch_z.data());
+      for (int iy = 0; iy < wny; ++iy) scratch_f[std::size_t(iy) * wnx + ix] = scratch_d[iy];
     }
-    for (int iy = 0; iy < ny; ++iy) {
-      float* row = &scratch_f[std::size_t(iy) * nx];
-      distanceTransform1d(row, nx, scratch_d.data(), scratch_v.data(), scratch_z.data());
-      for (int ix = 0; ix < nx; ++ix) {
-        const std::size_t i = std::size_t(iy) * nx + ix;
-        if (!occupied[i]) continue;
+    for (int iy = 0; iy < wny; ++iy) {
+      float* row = &scratch_f[std::size_t(iy) * wnx];
+      distanceTransform1d(row, wnx, scratch_d.data(), scratch_v.data(), scratch_z.data());
+      for (int ix = 0; ix < wnx; ++ix) {
+        const std::size_t i = std::size_t(iy + wy0) * nx + ix + wx0;
+        if (!occupied[i] || (only && !(*only)[i])) continue;
         const float din = std::sqrt(scratch_d[ix]) * float(slice.resolution);
         values[i] = std::isfinite(din) ? -std::min(cap, din - half) : -cap;
       }
@@ -480,7 +548,7 @@ bool EsdfMap::update(const Eigen::Vector2d& robot_xy, bool force_rebuild) {
     m.edt->update(true);  // only the cells changed since the last update
     ++m.incremental;
   }
-  m.computeSlice();
+  m.computeSlice(rebuilt);
   return rebuilt;
 }
 
@@ -527,6 +595,7 @@ const SliceGeometry& EsdfMap::slice() const { return impl_->slice; }
 Eigen::Vector2d EsdfMap::boxCenter() const { return impl_->box_center; }
 int64_t EsdfMap::incrementalUpdates() const { return impl_->incremental; }
 int64_t EsdfMap::rebuilds() const { return impl_->rebuilds; }
+std::size_t EsdfMap::sliceMismatches() const { return impl_->edt ? impl_->sliceMismatches() : 0; }
 const MapParams& EsdfMap::params() const { return impl_->params; }
 
 std::size_t EsdfMap::occupiedLeafCount() const {
