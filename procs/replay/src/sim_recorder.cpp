@@ -195,6 +195,9 @@ class Bus {
   Bus(const std::vector<NodeAdapter*>& nodes, const std::map<std::size_t, int64_t>& async_delay_us,
       std::function<void(bool)> on_wait, const EventSink& sink, simulator::Simulator& sim, RecordSummary& summary)
       : nodes_(nodes), on_wait_(std::move(on_wait)), sink_(sink), sim_(sim), summary_(summary), async_(nodes.size()) {
+    // Input channels are read once, here: no call into a node from this thread while a
+    // worker may be inside it, and no channel list built per message.
+    for (NodeAdapter* n : nodes) inputs_.push_back(n->inputChannels());
     for (const auto& [i, d] : async_delay_us) async_[i] = std::make_unique<AsyncNode>(nodes[i], d);
   }
 
@@ -212,7 +215,7 @@ class Bus {
     }
     for (std::size_t k = 0; k < nodes_.size(); ++k) {
       NodeAdapter* n = nodes_[k];
-      if (!n->consumes(channel)) continue;
+      if (std::find(inputs_[k].begin(), inputs_[k].end(), channel) == inputs_[k].end()) continue;
       if (async_[k]) {
         async_[k]->push(now_, channel, data);
         continue;
@@ -259,6 +262,7 @@ class Bus {
     OutputMessage msg;
   };
   const std::vector<NodeAdapter*>& nodes_;
+  std::vector<std::vector<std::string>> inputs_;  // per node: its input channels
   std::function<void(bool)> on_wait_;
   const EventSink& sink_;
   simulator::Simulator& sim_;

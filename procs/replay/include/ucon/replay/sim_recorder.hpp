@@ -80,7 +80,8 @@ struct RecordSummary {
   double worker_cpu_s = 0.0;                ///< CPU seconds of the async nodes' worker threads
 };
 
-/// Runs the closed loop for config.duration_s. `nodes` are fed in the given order.
+/// Runs the closed loop for config.duration_s. `nodes` are fed in the given order; their
+/// inputChannels() are read once at the start.
 RecordSummary recordSimulatedRun(const RecorderConfig& config,
                                  const std::vector<NodeAdapter*>& nodes, const EventSink& sink);
 
