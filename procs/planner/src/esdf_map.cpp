@@ -213,7 +213,7 @@ struct EsdfMap::Impl {
     ++rebuilds;
   }
 
-  /// The slice's value of cell i from the distance transform (occupied: 0 for now, see
+  /// The slice's value of cell (ix, iy) from the distance transform (occupied: 0 for now, see
   /// computeInterior).
   void sliceCell(int ix, int iy, float half, float cap) {
     const octomap::OcTreeKey k(key_min[0] + ix, key_min[1] + iy, key_min[2]);
