@@ -1,7 +1,5 @@
 #include "ucon/replay/sim_recorder.hpp"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
@@ -12,6 +10,7 @@
 #include <thread>
 
 #include "ucon/channels.hpp"
+#include "ucon/cpu_time.hpp"
 #include "ucon/lidar_driver/lidar_driver_node.hpp"
 #include "ucon/log_metadata_t.hpp"
 #include "ucon/nav_goal_t.hpp"
@@ -67,12 +66,6 @@ trajectory_t scriptedPlan(int64_t t0, const Eigen::Vector2d& from, const Eigen::
   return m;
 }
 
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 // A node on a worker thread of its own (RecorderConfig::async_delay_us). The loop's thread
 // queues inputs with their bus time; the worker feeds them in order and keeps every output
 // with its due time (input's bus time + delay). Before a step the loop takes the outputs due
@@ -103,8 +96,6 @@ class AsyncNode {
   }
   AsyncNode(const AsyncNode&) = delete;
   AsyncNode& operator=(const AsyncNode&) = delete;
-
-  NodeAdapter* node() const { return node_; }
 
   void push(int64_t bus_time, const std::string& channel, const std::vector<uint8_t>& data) {
     {
@@ -145,7 +136,7 @@ class AsyncNode {
   };
 
   void run() {
-    const double cpu0 = threadCpuSeconds();
+    const double cpu0 = ucon::threadCpuSeconds();
     std::vector<OutputMessage> outs;
     for (;;) {
       Input in;
@@ -157,22 +148,25 @@ class AsyncNode {
         in_.pop_front();
       }
       outs.clear();
+      bool failed = false;
       std::string err;
       try {
         node_->feed(in.channel, in.data.data(), in.data.size(), &outs);
       } catch (const std::exception& e) {
-        err = e.what();
+        failed = true, err = e.what();
+      } catch (...) {
+        failed = true, err = "unknown exception";
       }
       {
         std::lock_guard<std::mutex> lk(m_);
         for (auto& o : outs) out_.push_back({in.bus_time + delay_us_, std::move(o)});
         ++handled_;
-        if (!err.empty()) failed_ = true, error_ = err;
+        if (failed) failed_ = true, error_ = err;
       }
       cv_.notify_all();
-      if (!err.empty()) break;
+      if (failed) break;
     }
-    cpu_s_ = threadCpuSeconds() - cpu0;  // read by stop() after the join
+    cpu_s_ = ucon::threadCpuSeconds() - cpu0;  // read by stop() after the join
   }
 
   NodeAdapter* node_;
@@ -231,19 +225,18 @@ class Bus {
   }
 
   // Publishes the async nodes' outputs due at or before the current bus time: by due time,
-  // then node order, then production order.
+  // then node order, then production order (a stable sort of the node-by-node list).
   void deliverDue() {
     due_.clear();
     for (std::size_t k = 0; k < async_.size(); ++k) {
       if (!async_[k]) continue;
       async_[k]->takeDue(now_, &scratch_, on_wait_);
-      for (auto& d : scratch_) due_.push_back({d.due, k, std::move(d.msg)});
+      for (auto& d : scratch_) due_.push_back(std::move(d));
       scratch_.clear();
     }
     if (due_.empty()) return;
-    std::stable_sort(due_.begin(), due_.end(), [](const Pending& a, const Pending& b) {
-      return a.due != b.due ? a.due < b.due : a.node < b.node;
-    });
+    std::stable_sort(due_.begin(), due_.end(),
+                     [](const AsyncNode::Due& a, const AsyncNode::Due& b) { return a.due < b.due; });
     for (const auto& p : due_) publish(p.msg.channel, p.msg.utime, p.msg.data);
   }
 
@@ -256,11 +249,6 @@ class Bus {
   }
 
  private:
-  struct Pending {
-    int64_t due;
-    std::size_t node;
-    OutputMessage msg;
-  };
   const std::vector<NodeAdapter*>& nodes_;
   std::vector<std::vector<std::string>> inputs_;  // per node: its input channels
   std::function<void(bool)> on_wait_;
@@ -269,7 +257,7 @@ class Bus {
   RecordSummary& summary_;
   std::vector<std::unique_ptr<AsyncNode>> async_;
   std::vector<AsyncNode::Due> scratch_;
-  std::vector<Pending> due_;
+  std::vector<AsyncNode::Due> due_;
   int64_t now_ = 0;
 };
 

@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "ucon/cpu_time.hpp"
 #include "ucon/lidar_driver/lidar_driver_node.hpp"
 #include "ucon/lidar_driver/udp_socket.hpp"
 #include "ucon/livox/protocol.hpp"
@@ -28,11 +29,7 @@ namespace livox = ucon::livox;
 
 namespace {
 
-double threadCpuSeconds() {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
+using ucon::threadCpuSeconds;
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

@@ -23,7 +23,6 @@
 #include <cmath>
 #include <deque>
 #include <cstdio>
-#include <ctime>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -35,6 +34,7 @@
 
 #include "ucon/channels.hpp"
 #include "ucon/config.hpp"
+#include "ucon/cpu_time.hpp"
 #include "ucon/lidar_driver/driver_params.hpp"
 #include "ucon/mission/mission_node.hpp"
 #include "ucon/planner/planner_params.hpp"
@@ -63,13 +63,6 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-/// CPU time of the calling thread [s]: the loop's own cost, whatever else the machine runs.
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 std::string num(double x) {
@@ -584,7 +577,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   }
 
   const auto t0 = Clock::now();
-  const double cpu0 = threadCpuSeconds();
+  const double cpu0 = ucon::threadCpuSeconds();
   const rp::RecordSummary s =
       rp::recordSimulatedRun(cfg, loop, [](const std::string&, int64_t, const std::vector<uint8_t>&) {});
   res.wall_s = msSince(t0) * 1e-3;
@@ -594,7 +587,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     res.leaked_static = perception_wrap->leaked_points_;
     res.static_points = perception_wrap->static_points_;
   }
-  res.cpu_s = threadCpuSeconds() - cpu0 + s.worker_cpu_s;
+  res.cpu_s = ucon::threadCpuSeconds() - cpu0 + s.worker_cpu_s;
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
   res.robot_speed_at_hit = mission.robotSpeedAtHit();

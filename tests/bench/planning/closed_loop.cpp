@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 
+#include "ucon/cpu_time.hpp"
 #include "ucon/kalman/constant_velocity_kalman.hpp"
 #include "ucon/planner/planner_node.hpp"
 #include "ucon/status_report.hpp"
@@ -21,11 +21,7 @@ constexpr int64_t kUtime0 = 1'000'000;  // simulated t = 0 [us] (utime must be >
 
 /// CPU time of the calling thread [ms]: plan cost without the time other processes on a
 /// shared machine take the core away.
-double threadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
+double threadCpuMs() { return 1e3 * ucon::threadCpuSeconds(); }
 
 /// Marks the static footprints in the planner's map: every leaf of the height band whose
 /// centre is within half a cell of a footprint (so thin walls are not lost between centres).
