@@ -146,6 +146,8 @@ int main(int argc, char** argv) {
   }
   // Leave the motors braked: a last disabled, zero command.
   backend->send(node.brakeCommand());
-  rt::logLine(kName, "info", "stopped");
+  std::string totals;
+  for (const auto& [name, value] : backend->counters()) totals += " " + name + "=" + std::to_string(value);
+  rt::logLine(kName, "info", "stopped;" + totals);
   return rc;
 }

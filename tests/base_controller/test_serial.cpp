@@ -6,9 +6,15 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <thread>
 
 #include "ucon/base_controller/motor_backend.hpp"
 #include "ucon/base_controller/serial_frame.hpp"
@@ -177,6 +183,68 @@ TEST(SerialMotorBackend, GivenAPtyWhenCommandsSentThenTheBoardSideDecodesThemInM
       EXPECT_EQ(value, 2);
     }
   }
+}
+
+namespace {
+std::atomic<int> g_usr1_count{0};
+void onUsr1(int) { g_usr1_count.fetch_add(1, std::memory_order_relaxed); }
+}  // namespace
+
+// The processes install their SIGTERM/SIGINT handlers without SA_RESTART (so that a wait ends at
+// once); a signal arriving while a frame is being written must not lose that frame.
+TEST(SerialPort, GivenSignalsArrivingDuringWritesThenNoFrameIsLost) {
+  Pty pty;
+  ASSERT_FALSE(pty.slave.empty()) << "posix_openpt failed";
+  std::string err;
+  auto port = SerialPort::open(pty.slave, 115200, &err);
+  ASSERT_TRUE(port) << err;
+  struct sigaction sa {}, old {};
+  sa.sa_handler = onUsr1;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART, as in the processes
+  ASSERT_EQ(sigaction(SIGUSR1, &sa, &old), 0);
+
+  constexpr int kMinFrames = 500, kMaxFrames = 60000, kMinSignals = 200;
+  std::atomic<bool> done{false};
+  const pthread_t writer = pthread_self();
+  std::thread pester([&] {
+    while (!done.load()) {
+      pthread_kill(writer, SIGUSR1);
+      std::this_thread::sleep_for(std::chrono::microseconds(5));
+    }
+  });
+  std::vector<uint8_t> bytes;
+  auto drain = [&] {
+    uint8_t buf[4096];
+    pollfd p{pty.master, POLLIN, 0};
+    while (poll(&p, 1, 0) > 0 && (p.revents & POLLIN)) {
+      const ssize_t n = read(pty.master, buf, sizeof(buf));
+      if (n <= 0) break;
+      bytes.insert(bytes.end(), buf, buf + n);
+    }
+  };
+  int failed = 0, written = 0;
+  // Write until enough signals have arrived (the seq wraps at 65536, so stay below).
+  for (int i = 0; i < kMaxFrames && (i < kMinFrames || g_usr1_count.load() < kMinSignals); ++i, ++written) {
+    const auto f = encodeWheelFrame(static_cast<uint16_t>(i), true, {1.0, 2.0, 3.0, 4.0});
+    if (!port->write(f.data(), f.size())) ++failed;
+    if (i % 64 == 0) drain();
+  }
+  done = true;
+  pester.join();
+  sigaction(SIGUSR1, &old, nullptr);
+  const std::vector<uint8_t> rest = pty.readFor(2000, written * kWheelFrameSize - bytes.size());
+  bytes.insert(bytes.end(), rest.begin(), rest.end());
+
+  EXPECT_GE(g_usr1_count.load(), kMinSignals) << "the test did not interrupt the writer";
+  EXPECT_EQ(failed, 0);
+  EXPECT_EQ(port->droppedWrites(), 0);
+  EXPECT_EQ(port->writeErrors(), 0);
+  WheelFrameParser parser;
+  const auto frames = parser.feed(bytes.data(), bytes.size());
+  ASSERT_EQ(frames.size(), static_cast<std::size_t>(written));
+  for (int i = 0; i < written; ++i) ASSERT_EQ(frames[static_cast<std::size_t>(i)].seq, static_cast<uint16_t>(i));
+  EXPECT_EQ(parser.crcErrors(), 0);
 }
 
 TEST(SerialPort, GivenBadDeviceOrBaudThenClearError) {

@@ -63,20 +63,33 @@ SerialPort::~SerialPort() {
 }
 
 bool SerialPort::write(const uint8_t* data, std::size_t n) {
-  // A full kernel buffer (EAGAIN) drops the frame. A short write is rare (the buffer holds
-  // hundreds of frames) and counted as an error; the board resynchronises on the next sync word.
-  const ssize_t w = ::write(fd_, data, n);
-  if (w == static_cast<ssize_t>(n)) return true;
-  if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-    ++dropped_;
-  } else {
-    ++errors_;
+  // A signal arriving during the call (SIGTERM at shutdown: the handlers are installed without
+  // SA_RESTART so that waits end) interrupts it before anything is written: try again, or the
+  // frame is lost. A full kernel buffer (EAGAIN) with nothing written drops the frame; the rest
+  // of a partly written frame is still sent, or the board would see a torn frame.
+  std::size_t done = 0;
+  while (done < n) {
+    const ssize_t w = ::write(fd_, data + done, n - done);
+    if (w > 0) {
+      done += static_cast<std::size_t>(w);
+      continue;
+    }
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK) && done == 0) {
+      ++dropped_;
+    } else {
+      ++errors_;
+    }
+    return false;
   }
-  return false;
+  return true;
 }
 
 long SerialPort::read(uint8_t* data, std::size_t n) {
-  const ssize_t r = ::read(fd_, data, n);
+  ssize_t r;
+  do {
+    r = ::read(fd_, data, n);
+  } while (r < 0 && errno == EINTR);
   if (r < 0) return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
   return static_cast<long>(r);
 }

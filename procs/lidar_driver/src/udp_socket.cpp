@@ -123,7 +123,10 @@ bool UdpSocket::sendTo(const std::array<uint8_t, 4>& ip, uint16_t port, const ui
   addr.sin_family = AF_INET;
   addr.sin_port = htons(port);
   std::memcpy(&addr.sin_addr.s_addr, ip.data(), 4);
-  const ssize_t r = ::sendto(fd_, data, n, 0, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr));
+  ssize_t r;
+  do {  // a signal (the SIGTERM handler is installed without SA_RESTART) must not lose a command
+    r = ::sendto(fd_, data, n, 0, reinterpret_cast<const sockaddr*>(&addr), sizeof(addr));
+  } while (r < 0 && errno == EINTR);
   return r == static_cast<ssize_t>(n);
 }
 

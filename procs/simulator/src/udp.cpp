@@ -46,6 +46,7 @@ bool UdpSocket::sendTo(const uint8_t* data, std::size_t size, const sockaddr_in&
   for (int attempt = 0; attempt < 100; ++attempt) {
     const ssize_t n = ::sendto(fd_, data, size, 0, reinterpret_cast<const sockaddr*>(&to), sizeof(to));
     if (n == static_cast<ssize_t>(size)) return true;
+    if (n < 0 && errno == EINTR) continue;  // a signal (SIGTERM handler without SA_RESTART)
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS)) {
       ::usleep(50);  // send buffer full: wait for the kernel instead of dropping
       continue;
@@ -69,7 +70,7 @@ long UdpSocket::receive(std::vector<uint8_t>& buf, sockaddr_in* from) {
   socklen_t len = sizeof(sockaddr_in);
   const ssize_t n = ::recvfrom(fd_, buf.data(), buf.size(), 0, reinterpret_cast<sockaddr*>(from), &len);
   if (n < 0) {
-    if (errno == EAGAIN || errno == EWOULDBLOCK) return 0;
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return 0;
     return -1;
   }
   buf.resize(static_cast<std::size_t>(n));
