@@ -383,6 +383,72 @@ TEST(PlannerNode, GivenObstaclesClosingInFromAllSidesThenNothingPassesTheCheckAn
 }
 
 namespace {
+/// Seconds from `from` until a robot following `pp` (at rest after its end) comes within
+/// `reach` of a mover's body (constant velocity), within `horizon`; +inf if it does not.
+double contactTime(const trajectory::PiecewisePolynomial& pp, int64_t from, const std::vector<tracked_object_t>& objs,
+                   int64_t objs_utime, double horizon, double reach) {
+  for (double s = 0.0; s <= horizon + 1e-9; s += 0.01) {
+    const int64_t t = from + int64_t(std::llround(s * 1e6));
+    const auto p = pp.sample(t).position;
+    const double dt = 1e-6 * double(t - objs_utime);
+    for (const auto& o : objs)
+      if (std::hypot(p.x() - (o.x + o.vx * dt), p.y() - (o.y + o.vy * dt)) - 0.5 * std::hypot(o.size_x, o.size_y) < reach)
+        return s;
+  }
+  return INFINITY;
+}
+
+// The robot drives along +x at 1 m/s. A mover crosses just behind it (braking stops the
+// robot in its way) and a line of movers comes towards it from ahead (every plan onwards meets
+// it before the two-second check ends), so nothing passes the check.
+std::vector<tracked_object_t> caughtBetween() {
+  std::vector<tracked_object_t> objs{object(100, 0.4, -1.8, 0.0, 1.4)};
+  for (int k = -5; k <= 5; ++k) objs.push_back(object(101 + k + 5, 3.9, 0.6 * k, -1.0, 0.0));
+  return objs;
+}
+}  // namespace
+
+TEST(PlannerNode, GivenNothingPassesTheCheckButARejectedPlanReachesTheMoversLaterThenItIsFollowedInsteadOfBraking) {
+  const auto ring = caughtBetween();
+  Fixture brake(false);
+  brake.params.least_bad_gain_s = -1.0;
+  brake.params.escape_candidates = 0;  // the plans towards the goal alone
+  brake.node = std::make_unique<PlannerNode>(brake.params, brake.report);
+  brake.node->map().addCylinder(50.0, 50.0, 0.3);
+  brake.node->notifyMapChanged();
+  brake.node->onPose(pose(kT0, 0.0, 0.0, 1.0, 0.0));
+  brake.node->onObjects(objects(kT0, ring));
+  brake.node->onGoal(goal(kT0, 6.0, 0.0));
+  const auto stopped = brake.node->tick(kT0);
+  ASSERT_TRUE(stopped.plan && stopped.trajectory);
+  ASSERT_EQ(stopped.plan->result, PlanResult::kStopNoFeasible) << "the scene must defeat every plan";
+
+  Fixture f(false);
+  f.params.least_bad_gain_s = 0.3;
+  f.params.escape_candidates = 0;
+  f.node = std::make_unique<PlannerNode>(f.params, f.report);
+  f.node->map().addCylinder(50.0, 50.0, 0.3);
+  f.node->notifyMapChanged();
+  f.node->onPose(pose(kT0, 0.0, 0.0, 1.0, 0.0));
+  f.node->onObjects(objects(kT0, ring));
+  f.node->onGoal(goal(kT0, 6.0, 0.0));
+  const auto out = f.node->tick(kT0);
+  ASSERT_TRUE(out.plan && out.trajectory);
+  EXPECT_EQ(out.plan->result, PlanResult::kOk);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_OK);
+  EXPECT_NE(out.trajectory->message.find("least bad"), std::string::npos) << out.trajectory->message;
+  EXPECT_EQ(f.report.counter("least_bad_plans"), 1);
+  // It reaches the movers later than braking does, by at least the gain.
+  const int64_t from = kT0 + int64_t(f.params.latency_s * 1e6);
+  const double h = f.params.optimizer.check_horizon, r = f.params.optimizer.robot_radius;
+  const double t_plan = contactTime(f.node->currentTrajectory(), from, ring, kT0, h, r);
+  const double t_stop = contactTime(brake.node->currentTrajectory(), from, ring, kT0, h, r);
+  EXPECT_GE(t_plan, t_stop + 0.3 - 0.02) << t_plan << " vs " << t_stop;
+  // And it is clear of the map and within the limits.
+  EXPECT_GE(minMapDistance(*f.node, f.node->currentTrajectory()), f.params.optimizer.robot_radius);
+}
+
+namespace {
 /// A PERCEPTION_STATIC frame: a ring of points of `radius` around each centre, at height z.
 ucon::static_points_t ringsAt(int64_t utime, const std::vector<Eigen::Vector2d>& centres, double radius, double z) {
   ucon::static_points_t m{};

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "ucon/trajectory/quintic_hermite.hpp"
@@ -376,6 +377,7 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
   req.field = field_.get();
   req.obstacles = obstacles_;
   trajopt::PlanOutput po;
+  fallback_.reset();
   int attempts = 0;
   for (int attempt = 0; attempt < params_.max_attempts; ++attempt) {
     if (attempt > 0) {
@@ -386,6 +388,7 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     req.inner_waypoints = guess.waypoints;
     req.durations = guess.durations;
     po = optimizer_.plan(req);
+    considerFallback(po);
     info.iterations += po.iterations;
     ++attempts;
     if (po.status == trajopt::PlanStatus::kOk || po.status == trajopt::PlanStatus::kInvalidInput) break;
@@ -438,6 +441,26 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
       out.plan = info;
       record(info);
       return out;
+    }
+    // Braking leaves the robot where it is: when a rejected plan is predicted to reach the
+    // movers clearly later than braking does, following it is the safer choice (the next
+    // cycle replans from there).
+    trajectory::PiecewisePolynomial stop_pp;
+    if (params_.least_bad_gain_s >= 0.0 && fallback_ && stopPolynomial(now, &stop_pp)) {
+      const double t_stop = firstContact(stop_pp, start.utime);
+      if (fallback_->contact_s >= t_stop + params_.least_bad_gain_s) {
+        report_.count("least_bad_plans");
+        char buf[160];
+        std::snprintf(buf, sizeof(buf), "least bad: movers predicted within reach after %.2f s, braking %.2f s",
+                      fallback_->contact_s, t_stop);
+        info.result = PlanResult::kOk;
+        info.message = buf;
+        out.trajectory = finish(fallback_->pp, now, trajectory_t::STATUS_OK, info.message);
+        info.total_ms = msSince(t_start);
+        out.plan = info;
+        record(info);
+        return out;
+      }
     }
     return stop(PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
   }
@@ -494,6 +517,7 @@ trajopt::PlanOutput PlannerNode::planEscape(const StartState& start, trajopt::Pl
     req.inner_waypoints = g.waypoints;
     req.durations = g.durations;
     best = optimizer_.plan(req);
+    considerFallback(best);
     *iterations += best.iterations;
     report_.count("escape_attempts");
     if (best.status == trajopt::PlanStatus::kOk) break;
@@ -518,7 +542,59 @@ trajectory_t PlannerNode::finish(const trajectory::PiecewisePolynomial& pp, int6
   return msg;
 }
 
+void PlannerNode::considerFallback(const trajopt::PlanOutput& po) {
+  if (params_.least_bad_gain_s < 0.0 || po.status != trajopt::PlanStatus::kDynamicCollision) return;
+  const auto& op = params_.optimizer;
+  if (!(po.min_static_clearance >= op.robot_radius)) return;
+  if (!(po.max_speed <= op.max_velocity * (1.0 + op.limit_tolerance)) ||
+      !(po.max_acceleration <= op.max_acceleration * (1.0 + op.limit_tolerance)))
+    return;
+  Fallback f;
+  if (trajectory::PiecewisePolynomial::fromMessage(po.trajectory, &f.pp) != trajectory::TrajectoryStatus::kOk) return;
+  f.contact_s = firstContact(f.pp, po.trajectory.start_utime);
+  f.gap = po.min_dynamic_clearance;
+  if (!fallback_ || f.contact_s > fallback_->contact_s ||
+      (f.contact_s == fallback_->contact_s && f.gap > fallback_->gap))
+    fallback_ = std::move(f);
+}
+
+double PlannerNode::firstContact(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const {
+  const auto& op = params_.optimizer;
+  const int steps = static_cast<int>(std::ceil(op.check_horizon / op.check_step));
+  for (int s = 0; s <= steps; ++s) {
+    const double ts = s * op.check_step;
+    const int64_t t = from_utime + static_cast<int64_t>(std::llround(ts * kUsPerS));
+    const Eigen::Vector2d p = pp.sample(t).position.head<2>();  // clamped: at rest after the end
+    for (const auto& o : obstacles_) {
+      if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
+      const double dt = 1e-6 * static_cast<double>(t - o.utime);
+      const Eigen::Vector2d mu = o.state.head<2>() + dt * o.state.segment<2>(3);
+      if ((p - mu).norm() - o.radius < op.robot_radius) return ts;
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 trajectory_t PlannerNode::stopTrajectory(int64_t now, int8_t status, const std::string& message) {
+  trajectory::PiecewisePolynomial pp;
+  if (stopPolynomial(now, &pp)) return finish(pp, now, status, message);
+  trajectory_t msg{};
+  msg.utime = now;
+  msg.seq = ++seq_;
+  msg.plan_id = ++plan_id_;
+  msg.goal_id = goal_ ? goal_->goal_id : 0;
+  msg.status = trajectory_t::STATUS_INVALID;
+  msg.message = message.empty() ? "no state to stop from" : message;
+  msg.dim = 2;
+  msg.order1 = 6;
+  msg.yaw = std::numeric_limits<double>::quiet_NaN();
+  current_ = trajectory::PiecewisePolynomial();
+  current_msg_ = msg;
+  current_status_ = msg.status;
+  return msg;
+}
+
+bool PlannerNode::stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* out) const {
   // From the state the robot is expected to be in at now + latency: the current plan if any,
   // else the pose. A single quintic to rest, braking at about half the acceleration limit.
   const int64_t t0 = now + int64_t(params_.latency_s * kUsPerS);
@@ -540,22 +616,7 @@ trajectory_t PlannerNode::stopTrajectory(int64_t now, int8_t status, const std::
     v = Eigen::Vector2d(pose_->vx, pose_->vy);
     have = true;
   }
-  if (!have || !p.allFinite() || !v.allFinite() || !a.allFinite()) {
-    trajectory_t msg{};
-    msg.utime = now;
-    msg.seq = ++seq_;
-    msg.plan_id = ++plan_id_;
-    msg.goal_id = goal_ ? goal_->goal_id : 0;
-    msg.status = trajectory_t::STATUS_INVALID;
-    msg.message = message.empty() ? "no state to stop from" : message;
-    msg.dim = 2;
-    msg.order1 = 6;
-    msg.yaw = std::numeric_limits<double>::quiet_NaN();
-    current_ = trajectory::PiecewisePolynomial();
-    current_msg_ = msg;
-    current_status_ = msg.status;
-    return msg;
-  }
+  if (!have || !p.allFinite() || !v.allFinite() || !a.allFinite()) return false;
   const double speed = v.norm();
   const double T = std::max(0.5, 2.0 * speed / params_.optimizer.max_acceleration);
   const Eigen::Vector2d p_end = p + v * (0.5 * T);
@@ -564,9 +625,7 @@ trajectory_t PlannerNode::stopTrajectory(int64_t now, int8_t status, const std::
     const auto c = trajectory::quinticHermiteCoefficients(p(d), v(d), a(d), p_end(d), 0.0, 0.0, T);
     coeffs.insert(coeffs.end(), c.begin(), c.end());
   }
-  trajectory::PiecewisePolynomial pp;
-  trajectory::PiecewisePolynomial::create(t0, 2, 6, {T}, coeffs, &pp);
-  return finish(pp, now, status, message);
+  return trajectory::PiecewisePolynomial::create(t0, 2, 6, {T}, coeffs, out) == trajectory::TrajectoryStatus::kOk;
 }
 
 void PlannerNode::record(const PlanInfo& info) {

@@ -118,6 +118,15 @@ class PlannerNode {
   /// Short detours away from the predicted obstacles when nothing toward the goal passed.
   trajopt::PlanOutput planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations);
   trajectory_t stopTrajectory(int64_t now, int8_t status, const std::string& message);
+  /// The braking polynomial stopTrajectory() publishes; false without a state to stop from.
+  bool stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* pp) const;
+  /// Keeps `po` as this cycle's least-bad fallback if it failed only on predicted obstacles
+  /// (static clearance and limits fine) and reaches them later than any kept so far.
+  void considerFallback(const trajopt::PlanOutput& po);
+  /// Seconds from `from_utime` until the robot's body following `pp` (at rest after its end)
+  /// first comes within robot_radius of a predicted obstacle body, over the check horizon;
+  /// +inf if it does not.
+  double firstContact(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const;
   trajectory_t finish(const trajectory::PiecewisePolynomial& pp, int64_t now, int8_t status,
                       const std::string& message);
   void record(const PlanInfo& info);
@@ -130,6 +139,12 @@ class PlannerNode {
   MessageClock clock_;
   std::optional<robot_pose_t> pose_;
   std::vector<trajopt::PredictedObstacle> obstacles_;
+  struct Fallback {
+    trajectory::PiecewisePolynomial pp;
+    double contact_s = 0.0;  ///< firstContact() [s]
+    double gap = 0.0;        ///< smallest predicted gap to an obstacle body [m]
+  };
+  std::optional<Fallback> fallback_;  ///< this cycle's least-bad rejected plan
   int64_t objects_utime_ = 0;
   bool objects_seen_ = false;
   std::optional<nav_goal_t> goal_;

@@ -56,6 +56,10 @@ struct PlannerParams {
   double retry_speed_scale = 0.6;     ///< each retry's initial guess is this much slower, 0.1..1
   int escape_candidates = 3;          ///< short detours tried before a stop (0 = brake at once), 0..16
   double escape_distance = 2.5;       ///< length of a detour [m], 0.5..10
+  /// When nothing passed the check, a rejected plan that is free of static collisions and
+  /// within the limits replaces braking if it comes within reach of the predicted obstacles
+  /// at least this much later than braking does [s], 0..10; negative = always brake.
+  double least_bad_gain_s = 0.0;
   Workspace workspace;
   ObjectParams objects;
   kalman::KalmanParams kalman;        ///< prediction model of obstacle state and covariance
