@@ -408,31 +408,33 @@ std::vector<tracked_object_t> caughtBetween() {
 }
 }  // namespace
 
+// One planning cycle of a robot at the origin driving along +x at 1 m/s among `objs`, goal
+// (6, 0), no detours (the plans towards the goal alone), with the given least_bad_gain_s.
+struct OneCycle {
+  Fixture f{false};
+  PlannerOutputs out;
+  OneCycle(double gain, const std::vector<tracked_object_t>& objs) {
+    f.params.least_bad_gain_s = gain;
+    f.params.escape_candidates = 0;
+    f.node = std::make_unique<PlannerNode>(f.params, f.report);
+    f.node->map().addCylinder(50.0, 50.0, 0.3);
+    f.node->notifyMapChanged();
+    f.node->onPose(pose(kT0, 0.0, 0.0, 1.0, 0.0));
+    f.node->onObjects(objects(kT0, objs));
+    f.node->onGoal(goal(kT0, 6.0, 0.0));
+    out = f.node->tick(kT0);
+  }
+};
+
 TEST(PlannerNode, GivenNothingPassesTheCheckButARejectedPlanReachesTheMoversLaterThenItIsFollowedInsteadOfBraking) {
   const auto ring = caughtBetween();
-  Fixture brake(false);
-  brake.params.least_bad_gain_s = -1.0;
-  brake.params.escape_candidates = 0;  // the plans towards the goal alone
-  brake.node = std::make_unique<PlannerNode>(brake.params, brake.report);
-  brake.node->map().addCylinder(50.0, 50.0, 0.3);
-  brake.node->notifyMapChanged();
-  brake.node->onPose(pose(kT0, 0.0, 0.0, 1.0, 0.0));
-  brake.node->onObjects(objects(kT0, ring));
-  brake.node->onGoal(goal(kT0, 6.0, 0.0));
-  const auto stopped = brake.node->tick(kT0);
-  ASSERT_TRUE(stopped.plan && stopped.trajectory);
-  ASSERT_EQ(stopped.plan->result, PlanResult::kStopNoFeasible) << "the scene must defeat every plan";
+  const OneCycle brake(-1.0, ring);
+  ASSERT_TRUE(brake.out.plan && brake.out.trajectory);
+  ASSERT_EQ(brake.out.plan->result, PlanResult::kStopNoFeasible) << "the scene must defeat every plan";
 
-  Fixture f(false);
-  f.params.least_bad_gain_s = 0.3;
-  f.params.escape_candidates = 0;
-  f.node = std::make_unique<PlannerNode>(f.params, f.report);
-  f.node->map().addCylinder(50.0, 50.0, 0.3);
-  f.node->notifyMapChanged();
-  f.node->onPose(pose(kT0, 0.0, 0.0, 1.0, 0.0));
-  f.node->onObjects(objects(kT0, ring));
-  f.node->onGoal(goal(kT0, 6.0, 0.0));
-  const auto out = f.node->tick(kT0);
+  const OneCycle least_bad(0.3, ring);
+  const Fixture& f = least_bad.f;
+  const auto& out = least_bad.out;
   ASSERT_TRUE(out.plan && out.trajectory);
   EXPECT_EQ(out.plan->result, PlanResult::kOk);
   EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_OK);
@@ -442,7 +444,7 @@ TEST(PlannerNode, GivenNothingPassesTheCheckButARejectedPlanReachesTheMoversLate
   const int64_t from = kT0 + int64_t(f.params.latency_s * 1e6);
   const double h = f.params.optimizer.check_horizon, r = f.params.optimizer.robot_radius;
   const double t_plan = contactTime(f.node->currentTrajectory(), from, ring, kT0, h, r);
-  const double t_stop = contactTime(brake.node->currentTrajectory(), from, ring, kT0, h, r);
+  const double t_stop = contactTime(brake.f.node->currentTrajectory(), from, ring, kT0, h, r);
   EXPECT_GE(t_plan, t_stop + 0.3 - 0.02) << t_plan << " vs " << t_stop;
   // And it is clear of the map and within the limits.
   EXPECT_GE(minMapDistance(*f.node, f.node->currentTrajectory()), f.params.optimizer.robot_radius);
