@@ -65,8 +65,9 @@ SerialPort::~SerialPort() {
 bool SerialPort::write(const uint8_t* data, std::size_t n) {
   // A signal arriving during the call (SIGTERM at shutdown: the handlers are installed without
   // SA_RESTART so that waits end) interrupts it before anything is written: try again, or the
-  // frame is lost. A full kernel buffer (EAGAIN) with nothing written drops the frame; the rest
-  // of a partly written frame is still sent, or the board would see a torn frame.
+  // frame is lost. A full kernel buffer (EAGAIN) with nothing written drops the frame. After a
+  // partial write the rest is still offered (the board would see a torn frame); if the kernel
+  // takes no more, that counts as an error and the board resynchronises on the next sync word.
   std::size_t done = 0;
   while (done < n) {
     const ssize_t w = ::write(fd_, data + done, n - done);
