@@ -129,16 +129,20 @@ struct Pty {
   ~Pty() {
     if (master >= 0) close(master);
   }
+  // Appends what the board side can read within `timeout_ms` (0: what is there now).
+  void readAvailable(std::vector<uint8_t>* out, int timeout_ms) {
+    pollfd p{master, POLLIN, 0};
+    while (poll(&p, 1, timeout_ms) > 0 && (p.revents & POLLIN)) {
+      uint8_t buf[4096];
+      const ssize_t n = read(master, buf, sizeof(buf));
+      if (n <= 0) break;
+      out->insert(out->end(), buf, buf + n);
+      timeout_ms = 0;
+    }
+  }
   std::vector<uint8_t> readFor(int ms, std::size_t want) {
     std::vector<uint8_t> out;
-    for (int waited = 0; waited < ms && out.size() < want; waited += 10) {
-      pollfd p{master, POLLIN, 0};
-      if (poll(&p, 1, 10) > 0) {
-        uint8_t buf[256];
-        const ssize_t n = read(master, buf, sizeof(buf));
-        if (n > 0) out.insert(out.end(), buf, buf + n);
-      }
-    }
+    for (int waited = 0; waited < ms && out.size() < want; waited += 10) readAvailable(&out, 10);
     return out;
   }
 };
@@ -214,21 +218,12 @@ TEST(SerialPort, GivenSignalsArrivingDuringWritesThenNoFrameIsLost) {
     }
   });
   std::vector<uint8_t> bytes;
-  auto drain = [&] {
-    uint8_t buf[4096];
-    pollfd p{pty.master, POLLIN, 0};
-    while (poll(&p, 1, 0) > 0 && (p.revents & POLLIN)) {
-      const ssize_t n = read(pty.master, buf, sizeof(buf));
-      if (n <= 0) break;
-      bytes.insert(bytes.end(), buf, buf + n);
-    }
-  };
   int failed = 0, written = 0;
   // Write until enough signals have arrived (the seq wraps at 65536, so stay below).
   for (int i = 0; i < kMaxFrames && (i < kMinFrames || g_usr1_count.load() < kMinSignals); ++i, ++written) {
     const auto f = encodeWheelFrame(static_cast<uint16_t>(i), true, {1.0, 2.0, 3.0, 4.0});
     if (!port->write(f.data(), f.size())) ++failed;
-    if (i % 64 == 0) drain();
+    if (i % 64 == 0) pty.readAvailable(&bytes, 0);
   }
   done = true;
   pester.join();

@@ -200,9 +200,7 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
       const int64_t t_abs = tr.start_utime + static_cast<int64_t>(std::llround(t * 1e6));
       for (const auto& o : obstacles) {
         if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-        const double dt = 1e-6 * static_cast<double>(t_abs - o.utime);
-        const Eigen::Vector2d mu = o.state.head<2>() + dt * o.state.segment<2>(3);
-        const double gap = (p - mu).norm() - o.radius;
+        const double gap = predictedBodyGap(o, p, t_abs);
         out.min_dynamic_clearance = std::min(out.min_dynamic_clearance, gap);
         if (out.status == PlanStatus::kOk && gap < params.robot_radius) {
           out.status = PlanStatus::kDynamicCollision;

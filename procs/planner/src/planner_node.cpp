@@ -567,9 +567,7 @@ double PlannerNode::firstContact(const trajectory::PiecewisePolynomial& pp, int6
     const Eigen::Vector2d p = pp.sample(t).position.head<2>();  // clamped: at rest after the end
     for (const auto& o : obstacles_) {
       if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-      const double dt = 1e-6 * static_cast<double>(t - o.utime);
-      const Eigen::Vector2d mu = o.state.head<2>() + dt * o.state.segment<2>(3);
-      if ((p - mu).norm() - o.radius < op.robot_radius) return ts;
+      if (trajopt::predictedBodyGap(o, p, t) < op.robot_radius) return ts;
     }
   }
   return std::numeric_limits<double>::infinity();

@@ -153,6 +153,14 @@ struct SafetyCheck {
   double max_speed = 0.0;               ///< [m/s]
   double max_acceleration = 0.0;        ///< [m/s^2]
 };
+/// Gap [m] between a point `p` and obstacle `o`'s body at time `utime` under the
+/// constant-velocity prediction of its state (negative: inside the body); the post-check's test.
+inline double predictedBodyGap(const PredictedObstacle& o, const Eigen::Vector2d& p, int64_t utime) {
+  const double dt = 1e-6 * static_cast<double>(utime - o.utime);
+  const Eigen::Vector2d mu = o.state.head<2>() + dt * o.state.segment<2>(3);
+  return (p - mu).norm() - o.radius;
+}
+
 /// Checks a 2-D order1 = 6 trajectory message against the field (may be null), the
 /// obstacles (constant-velocity prediction of their state) and the limits of `params`.
 /// Rejected obstacles (non-finite) are skipped. Deterministic.
