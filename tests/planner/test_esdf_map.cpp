@@ -310,6 +310,35 @@ TEST(EsdfMap, GivenLongSequencesOfScansAndCellWritesThenEveryBandCellEqualsAFull
     for (int ix = 0; ix < a.slice().nx; ++ix) ASSERT_EQ(a.cellDistance(ix, iy), b.cellDistance(ix, iy));
 }
 
+TEST(EsdfMap, GivenManyScansOfFreeSpaceWhenInsertedLazilyThenTheTreeIsPrunedNowAndThen) {
+  // The band-only insertion updates leaves without re-deriving or pruning their parents;
+  // scans that clear a wide free area leave many subtrees whose leaves all agree. The map
+  // prunes them whenever its tree has grown by half, so its memory stays bounded.
+  MapParams p = smallParams();
+  p.band_only = true;
+  EsdfMap m(p);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), height(-0.3, 0.8), dist(5.0, 6.0);
+  for (int scan = 0; scan < 60; ++scan) {
+    const Eigen::Vector3d origin(0.1 * scan, 0.0, 0.25);
+    std::vector<Eigen::Vector3f> pts;
+    for (int i = 0; i < 1500; ++i) {
+      const double az = ang(rng), r = dist(rng);
+      pts.emplace_back(float(origin.x() + r * std::cos(az)), float(origin.y() + r * std::sin(az)), float(height(rng)));
+    }
+    ASSERT_EQ(m.insert(origin, pts, 8.0), ucon::planner::InsertStatus::kOk);
+  }
+  const Eigen::Vector3d probe(3.05, 1.05, 0.25);
+  EXPECT_FALSE(m.isOccupied(probe)) << "the rays cleared the disc";
+  const std::size_t before = m.treeNodeCount();
+  m.pruneTree();
+  const std::size_t after = m.treeNodeCount();
+  // Without the pruning the tree here is over 1.4x its pruned size; the map prunes when it
+  // has grown by half since the last pruning, and this scene's last one was recent.
+  EXPECT_LE(before, after + after / 4);
+  EXPECT_FALSE(m.isOccupied(probe)) << "pruning changes no cell";
+}
+
 TEST(EsdfMap, GivenBadMessagesWhenInsertedThenTheyAreRejectedAndNaNPointsSkipped) {
   EsdfMap map(smallParams());
   ucon::static_points_t msg{};

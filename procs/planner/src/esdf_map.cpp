@@ -149,13 +149,26 @@ struct EsdfMap::Impl {
   /// A hit or miss on leaf k, skipped when it cannot change anything.
   void updateLeaf(const octomap::OcTreeKey& k, bool hit) {
     if (clampSlot(k) == clampTag(k, hit)) return;
-    const octomap::OcTreeNode* n = tree.updateNode(k, hit, false);
+    // Lazy: the inner nodes above the leaf are neither re-derived nor pruned. Every reader
+    // works on leaves (a search by key descends to the leaf, or to a pruned node whose value
+    // its children all had), so the map answers the same; the tree just stays unpruned.
+    const octomap::OcTreeNode* n = tree.updateNode(k, hit, /*lazy_eval=*/true);
     if (n) {
       noteLeaf(k, n->getLogOdds());
     } else {
       clampSlot(k) = 0;
     }
   }
+  /// The lazy updates leave subtrees whose leaves all agree unpruned: the tree is pruned
+  /// whenever it has grown by half since the last pruning (amortised O(1) per node, memory
+  /// within 1.5x of a tree pruned at every update).
+  std::size_t pruned_size = 0;
+  void pruneIfGrown() {
+    if (tree.size() <= kPruneMinNodes || tree.size() <= pruned_size + pruned_size / 2) return;
+    tree.prune();
+    pruned_size = tree.size();
+  }
+  static constexpr std::size_t kPruneMinNodes = 4096;
   std::vector<std::pair<octomap::key_type, octomap::key_type>> dirty_columns;
   int64_t incremental = 0;
   int64_t rebuilds = 0;
@@ -485,6 +498,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   for (const uint64_t k : free_outside)
     if (!std::binary_search(occupied_cells.begin(), occupied_cells.end(), k)) m.updateLeaf(unpack(k), false);
   for (const uint64_t k : occupied_cells) m.updateLeaf(unpack(k), true);
+  m.pruneIfGrown();
   return InsertStatus::kOk;
 }
 
@@ -597,6 +611,13 @@ int64_t EsdfMap::incrementalUpdates() const { return impl_->incremental; }
 int64_t EsdfMap::rebuilds() const { return impl_->rebuilds; }
 std::size_t EsdfMap::sliceMismatches() const { return impl_->edt ? impl_->sliceMismatches() : 0; }
 const MapParams& EsdfMap::params() const { return impl_->params; }
+
+std::size_t EsdfMap::treeNodeCount() const { return impl_->tree.size(); }
+
+void EsdfMap::pruneTree() {
+  impl_->tree.prune();
+  impl_->pruned_size = impl_->tree.size();
+}
 
 std::size_t EsdfMap::occupiedLeafCount() const {
   std::size_t n = 0;
