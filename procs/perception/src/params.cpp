@@ -36,6 +36,8 @@ void SegmentationParams::read(ConfigReader& r) {
   r.read("split_max_size", split_max_size, 0.0, 50.0);
   r.read("history_static_only", history_static_only);
   r.read("view_center_shift", view_center_shift, 0.0, 2.0);
+  r.read("occlusion_anchor", occlusion_anchor, 0.0, 2.0);
+  r.read("occlusion_margin", occlusion_margin, 0.0, 10.0);
   r.read("static_persistence", static_persistence, 0.0, 10.0);
   r.read("static_cell", static_cell, 0.02, 2.0);
   r.read("static_max_gap", static_max_gap, 0.01, 10.0);

@@ -69,7 +69,8 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
                         "frames_no_pose", "frames_stale_pose", "points_in", "points_non_finite",
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
-                        "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split"})
+                        "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
+                        "views_anchored"})
     status_.count(c, 0);
 }
 
@@ -279,7 +280,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   }
   for (std::size_t j = 0; j < n_old_tracks; ++j) {
     if (meas_how[j] == TO::ASSOC_NONE || meas_points[j].empty()) continue;
-    applyMeasurement(tracks_[j], measure(meas_points[j]), utime, meas_how[j], meas_moving[j] != 0);
+    applyMeasurement(tracks_[j], measure(meas_points[j], &tracks_[j]), utime, meas_how[j], meas_moving[j] != 0);
     updated[j] = 1;
     for (int i : meas_points[j]) dynamic_point[i] = 1;
   }
@@ -307,6 +308,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
       continue;
     }
     tr.size = m.box.size;
+    tr.width = m.width;
     tr.size_z = m.size_z;
     tr.first_center = m.box.center;
     tr.history = thin(m.points, params_.reassociation.max_history_points);
@@ -577,7 +579,7 @@ std::vector<TrackView> PerceptionNode::trackViews(int64_t utime) const {
   return v;
 }
 
-PerceptionNode::Measurement PerceptionNode::measure(const std::vector<int>& indices) const {
+PerceptionNode::Measurement PerceptionNode::measure(const std::vector<int>& indices, const Track* track) const {
   Measurement m;
   if (indices.empty()) return m;
   Eigen::Vector3f lo = frame_points_[indices[0]], hi = lo;
@@ -590,12 +592,72 @@ PerceptionNode::Measurement PerceptionNode::measure(const std::vector<int>& indi
     zsum += p.z();
     m.points.push_back(p);
   }
-  m.box.center = viewCorrectedCenter(frame_points_, indices, sensor_origin_.head<2>().cast<double>(),
-                                     params_.segmentation.view_center_shift);
+  const Eigen::Vector2d sensor = sensor_origin_.head<2>().cast<double>();
+  m.box.center = viewCorrectedCenter(frame_points_, indices, sensor, params_.segmentation.view_center_shift);
   m.box.size = (hi - lo).head<2>().cast<double>();
   m.size_z = hi.z() - lo.z();
+  // Extent across the line of sight. A view cut on one side by something nearer (a pillar, a
+  // person in front) has its centre pulled towards the visible side, and the differenced
+  // velocity with it: with the track's width from uncut views, the centre is placed that
+  // width from the visible edge instead.
+  const Eigen::Vector2d view = m.box.center - sensor;
+  if (view.norm() > 1e-6) {
+    const Eigen::Vector2d u = view.normalized(), n(-u.y(), u.x());
+    double b_lo = INFINITY, b_hi = -INFINITY;
+    for (int i : indices) {
+      const double b = n.dot(frame_points_[i].head<2>().cast<double>());
+      b_lo = std::min(b_lo, b);
+      b_hi = std::max(b_hi, b);
+    }
+    m.width = b_hi - b_lo;
+    const double anchor = params_.segmentation.occlusion_anchor;
+    if (track && anchor > 0.0) {
+      const bool cut_lo = edgeOccluded(indices, n, false), cut_hi = edgeOccluded(indices, n, true);
+      m.occluded = cut_lo || cut_hi;
+      if (cut_lo != cut_hi && track->width > 0.0 && m.width < track->width - anchor) {
+        const double b_mid = cut_hi ? b_lo + 0.5 * track->width : b_hi - 0.5 * track->width;
+        m.box.center += n * (b_mid - 0.5 * (b_lo + b_hi));
+        m.cut = true;
+      }
+    }
+  }
   m.center << m.box.center, zsum / static_cast<double>(indices.size());
   return m;
+}
+
+bool PerceptionNode::edgeOccluded(const std::vector<int>& indices, const Eigen::Vector2d& n, bool hi) const {
+  // The outermost points on that side, each looked past by one to three angular bins (turned
+  // about the vertical towards that side; the bin's row and the rows above and below, a
+  // frame's returns are sparse): a return nearer than the point by occlusion_margin there is
+  // an occluder. A pillar a person brushes is not (it stands too close to the person), nor is
+  // the ground (at a point's elevation it lies beyond the point).
+  constexpr int kEdgePoints = 3;
+  const auto margin = static_cast<float>(params_.segmentation.occlusion_margin);
+  const double sign = hi ? 1.0 : -1.0;
+  std::vector<std::pair<double, int>> by_b;
+  by_b.reserve(indices.size());
+  for (int i : indices) by_b.emplace_back(sign * n.dot(frame_points_[i].head<2>().cast<double>()), i);
+  const std::size_t k = std::min<std::size_t>(kEdgePoints, by_b.size());
+  std::partial_sort(by_b.begin(), by_b.begin() + static_cast<long>(k), by_b.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
+  const double bin = params_.segmentation.free_space_bin_deg * M_PI / 180.0;
+  for (std::size_t e = 0; e < k; ++e) {
+    const Eigen::Vector3f ray = frame_points_[by_b[e].second] - sensor_origin_;
+    const float r = ray.norm();
+    for (int step = 1; step <= 3; ++step) {
+      // +n is the line of sight turned anticlockwise: turning the ray anticlockwise looks past the hi side.
+      const double a = sign * bin * step;
+      const float c = static_cast<float>(std::cos(a)), s = static_cast<float>(std::sin(a));
+      const Eigen::Vector3f turned(c * ray.x() - s * ray.y(), s * ray.x() + c * ray.y(), ray.z());
+      const int b = angularBin(turned), az = b / el_bins_, el = b % el_bins_;
+      for (int de = -1; de <= 1; ++de) {
+        if (el + de < 0 || el + de >= el_bins_) continue;
+        if (frame_fine_min_range_[static_cast<std::size_t>(az * el_bins_ + el + de)] < r - margin) return true;
+      }
+    }
+  }
+  return false;
 }
 
 double PerceptionNode::movedShare(const std::vector<int>& indices) const {
@@ -653,7 +715,14 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
   }
   t.measured.emplace_back(utime, m.center);
   while (t.measured.size() > 2 && utime - t.measured[1].first >= baseline_us) t.measured.pop_front();
-  t.size = (1.0 - p.size_smoothing) * t.size + p.size_smoothing * m.box.size;
+  if (m.cut) status_.count("views_anchored");
+  if (!m.occluded) {  // the width and box of a view cut by an occluder are not the object's
+    t.size = (1.0 - p.size_smoothing) * t.size + p.size_smoothing * m.box.size;
+    // Views missing a side without a visible occluder (sparse returns) are common, views wider
+    // than the object are not: the width follows increases faster than decreases.
+    const double w = m.width >= t.width ? p.size_smoothing : 0.25 * p.size_smoothing;
+    t.width = t.width > 0.0 ? (1.0 - w) * t.width + w * m.width : m.width;
+  }
   t.size_z = (1.0 - p.size_smoothing) * t.size_z + p.size_smoothing * m.size_z;
   t.history = thin(m.points, params_.reassociation.max_history_points);
   t.last_seen_utime = utime;

@@ -44,6 +44,8 @@ struct SegmentationParams {
   bool history_static_only = true;  ///< the motion test's reference history leaves out points the frame gave to tracks (someone walking in a tracked person's footsteps, or a mover retracing its path, is not matched against that trail)
   double split_max_size = 4.0;      ///< a cluster too large for an object but at most this large [m] gives its moved points as objects of their own (a mover brushing a pillar); 0 = off
   double view_center_shift = 0.3;   ///< an object seen from one side has its centre moved away from the sensor by up to this (footprint.hpp) [m]; 0 = off
+  double occlusion_anchor = 0.1;    ///< a tracked object's view this much narrower across the line of sight than the track and cut on one side by an occluder is centred from its visible edge [m]; 0 = off
+  double occlusion_margin = 0.8;    ///< an occluder: a return just beyond the view's edge at least this much nearer than the edge [m]
   double static_persistence = 0.5;  ///< a point reaches PERCEPTION_STATIC once its x-y cell has been occupied this long [s]; 0 = off
   double static_cell = 0.2;         ///< x-y cell of the persistence test [m], > 0
   double static_max_gap = 0.5;      ///< a cell not hit for longer than this starts its occupancy over [s], > 0

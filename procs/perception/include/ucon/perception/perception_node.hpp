@@ -110,6 +110,7 @@ class PerceptionNode {
     int num_points = 0;           ///< points of the latest measurement
     Eigen::Vector2d size = Eigen::Vector2d::Zero();
     double size_z = 0.0;
+    double width = 0.0;           ///< extent across the line of sight in views not cut by an occluder [m]; 0 = none yet
     Eigen::Vector2d first_center = Eigen::Vector2d::Zero();  ///< where it was first measured [m]
     Points history;               ///< T_c: the latest measurement's points (thinned)
     std::deque<std::pair<int64_t, Eigen::Vector3d>> measured;  ///< (utime, centre) for differenced velocity
@@ -133,6 +134,9 @@ class PerceptionNode {
     BoxXY box;
     double size_z = 0.0;
     Points points;
+    double width = 0.0;     ///< extent across the line of sight [m]
+    bool occluded = false;  ///< something nearer lies just beyond an edge across the line of sight
+    bool cut = false;       ///< one side hidden and the view narrower than the track: centred from the other edge
   };
 
   PerceptionOutput invalidOutput(int64_t utime, int64_t frame_seq, const std::string& why);
@@ -140,7 +144,12 @@ class PerceptionNode {
   void segment();
   void predictTracks(int64_t utime);
   std::vector<TrackView> trackViews(int64_t utime) const;
-  Measurement measure(const std::vector<int>& indices) const;
+  /// The measurement of a cluster's points; with the track they are for, a view cut on one
+  /// side by a nearer occluder is centred from its other, visible edge and the track's width.
+  Measurement measure(const std::vector<int>& indices, const Track* track = nullptr) const;
+  /// Whether something nearer than the points lies just beyond their edge across the line of
+  /// sight, on the side of +n (hi) or -n (lo).
+  bool edgeOccluded(const std::vector<int>& indices, const Eigen::Vector2d& n, bool hi) const;
   void applyMeasurement(Track& t, const Measurement& m, int64_t utime, int8_t how, bool moving);
   /// Share of `indices` that failed the motion test (moved).
   double movedShare(const std::vector<int>& indices) const;
