@@ -160,8 +160,8 @@ struct EsdfMap::Impl {
     }
   }
   /// The lazy updates leave subtrees whose leaves all agree unpruned: the tree is pruned
-  /// whenever it has grown by half since the last pruning (amortised O(1) per node, memory
-  /// within 1.5x of a tree pruned at every update).
+  /// whenever it has grown by half since the last pruning (amortised O(1) per node; the tree
+  /// stays within half again the size it had after the last pruning).
   std::size_t pruned_size = 0;
   void pruneIfGrown() {
     if (tree.size() <= kPruneMinNodes || tree.size() <= pruned_size + pruned_size / 2) return;

@@ -123,7 +123,7 @@ class EsdfMap {
   std::size_t sliceMismatches() const;
   /// Occupied leaves in the tree (all heights).
   std::size_t occupiedLeafCount() const;
-  /// Nodes of the 3-D tree, inner ones included (its memory is about 40 bytes per node).
+  /// Nodes of the 3-D tree, inner ones included (about 30 bytes of memory each).
   std::size_t treeNodeCount() const;
   /// Prunes the 3-D tree now (subtrees whose leaves all agree become one node); the map's
   /// answers do not change. Insertion prunes by itself whenever the tree has grown by half.
