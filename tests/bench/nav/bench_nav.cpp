@@ -10,11 +10,12 @@
 // A run succeeds when every goal is reached within the timeout with no collision; it stops at
 // the goal, at the first collision or at the timeout. Prints a table and writes JSON
 // {"results": [{"n_dynamic", "runs", "success_rate", "collisions", "time_to_goal_s",
-//               "realtime_factor", "tracking_recall", "velocity_error_mps",
+//               "realtime_factor", "tracking_recall", "velocity_error_mps", "velocity_error_over_std",
 //               "latency_ms": {"driver", "perception", "planner", "controller"}}]}
 // (tracking_recall: median over runs of the share of visible movers within 10 m with a track
 // within 0.7 m; velocity_error_mps: median over runs of the mean |v_track - v_mover| of those
-// within 5 m of the robot).
+// within 5 m of the robot; velocity_error_over_std: median over runs of the rms of that error over
+// the rms of the standard deviation the track states for it, 1 for a consistent covariance).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -312,6 +313,10 @@ class MissionAdapter : public rp::NodeAdapter {
           if (std::hypot(o.x - m.robot_x, o.y - m.robot_y) < 5.0) {
             verr_sum_ += std::hypot(near->vx - o.vx, near->vy - o.vy);
             ++verr_n_;
+            if (near->cov.size() == 36) {  // the velocity block's trace is E|v_err|^2 if the track is right
+              verr2_sum_ += (near->vx - o.vx) * (near->vx - o.vx) + (near->vy - o.vy) * (near->vy - o.vy);
+              vvar_sum_ += near->cov[3 * 6 + 3] + near->cov[4 * 6 + 4];
+            }
           }
         }
       }
@@ -374,6 +379,7 @@ class MissionAdapter : public rp::NodeAdapter {
   int64_t recall_total_ = 0, recall_hit_ = 0;
   double verr_sum_ = 0.0;
   int64_t verr_n_ = 0;
+  double verr2_sum_ = 0.0, vvar_sum_ = 0.0;
 
  private:
   std::string collision_with_;
@@ -460,6 +466,7 @@ struct RunResult {
   int64_t wheel_cmds_applied = 0;
   int64_t leaked_static = 0, static_points = 0;
   double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
+  double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
   double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
   StageTimes stages[kNumStages];
   bool pipelineBroken(std::string* why) const {
@@ -583,6 +590,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   res.wall_s = msSince(t0) * 1e-3;
   res.recall = mission.recall_total_ ? double(mission.recall_hit_) / double(mission.recall_total_) : NAN;
   res.velocity_error = mission.verr_n_ ? mission.verr_sum_ / double(mission.verr_n_) : NAN;
+  res.velocity_error_over_std = mission.vvar_sum_ > 0.0 ? std::sqrt(mission.verr2_sum_ / mission.vvar_sum_) : NAN;
   if (perception_wrap) {
     res.leaked_static = perception_wrap->leaked_points_;
     res.static_points = perception_wrap->static_points_;
@@ -761,7 +769,7 @@ int main(int argc, char** argv) {
     std::vector<double> ttg;
     double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
     int hit_mover = 0, hit_static = 0;
-    std::vector<double> recall, verr;  // per run
+    std::vector<double> recall, verr, vcons;  // per run
     std::vector<double> samples[kNumStages];
     double stage_total_ms[kNumStages] = {0, 0, 0, 0};
     std::map<std::string, double> by_input_ms[kNumStages];
@@ -792,6 +800,7 @@ int main(int argc, char** argv) {
       if (r.collision) (r.hit_mover ? row.hit_mover : row.hit_static) += 1;
       if (std::isfinite(r.recall)) row.recall.push_back(r.recall);
       if (std::isfinite(r.velocity_error)) row.verr.push_back(r.velocity_error);
+      if (std::isfinite(r.velocity_error_over_std)) row.vcons.push_back(r.velocity_error_over_std);
       for (int k = 0; k < kNumStages; ++k) {
         row.samples[k].insert(row.samples[k].end(), r.stages[k].samples_ms.begin(), r.stages[k].samples_ms.end());
         row.stage_total_ms[k] += r.stages[k].total_ms;
@@ -834,9 +843,10 @@ int main(int argc, char** argv) {
   for (const auto& r : rows) std::printf("  N_d=%d: %d / %d", r.n_dynamic, r.hit_mover, r.hit_static);
   std::printf("\n");
   std::printf("tracking, median over runs: recall (visible movers within 10 m with a track within 0.7 m) / "
-              "velocity error of those within 5 m [m/s]:");
+              "velocity error of those within 5 m [m/s] / that error over the std the tracks state (1: consistent):");
   for (const auto& r : rows)
-    std::printf("  N_d=%d: %.3f / %.3f", r.n_dynamic, percentile(r.recall, 0.5), percentile(r.verr, 0.5));
+    std::printf("  N_d=%d: %.3f / %.3f / %.2f", r.n_dynamic, percentile(r.recall, 0.5), percentile(r.verr, 0.5),
+                percentile(r.vcons, 0.5));
   std::printf("\n");
   if (pipeline.serial)
     std::printf("\nWall time per simulated second [ms] (share of the loop): driver, perception, planner, "
@@ -889,7 +899,8 @@ int main(int argc, char** argv) {
          << ", \"realtime_factor_cpu\": " << num(r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN)
          << ", \"pipelined\": " << (pipeline.serial ? "false" : "true")
          << ", \"tracking_recall\": " << num(percentile(r.recall, 0.5))
-         << ", \"velocity_error_mps\": " << num(percentile(r.verr, 0.5)) << ", \"latency_ms\": {";
+         << ", \"velocity_error_mps\": " << num(percentile(r.verr, 0.5))
+         << ", \"velocity_error_over_std\": " << num(percentile(r.vcons, 0.5)) << ", \"latency_ms\": {";
       for (int k = 0; k < kNumStages; ++k) {
         js << (k ? ", " : "") << "\"" << kStages[k] << "\": " << num(percentile(r.samples[k], 0.5));
       }
