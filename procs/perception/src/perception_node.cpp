@@ -1,6 +1,7 @@
 #include "ucon/perception/perception_node.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -631,24 +632,33 @@ bool PerceptionNode::edgeOccluded(const std::vector<int>& indices, const Eigen::
   // frame's returns are sparse): a return nearer than the point by occlusion_margin there is
   // an occluder. A pillar a person brushes is not (it stands too close to the person), nor is
   // the ground (at a point's elevation it lies beyond the point).
-  constexpr int kEdgePoints = 3;
+  constexpr int kEdgePoints = 3, kSteps = 3;
   const auto margin = static_cast<float>(params_.segmentation.occlusion_margin);
   const double sign = hi ? 1.0 : -1.0;
-  std::vector<std::pair<double, int>> by_b;
-  by_b.reserve(indices.size());
-  for (int i : indices) by_b.emplace_back(sign * n.dot(frame_points_[i].head<2>().cast<double>()), i);
-  const std::size_t k = std::min<std::size_t>(kEdgePoints, by_b.size());
-  std::partial_sort(by_b.begin(), by_b.begin() + static_cast<long>(k), by_b.end(), [](const auto& a, const auto& b) {
-    return a.first > b.first || (a.first == b.first && a.second < b.second);
-  });
+  // The kEdgePoints largest (sign * n.p, index) pairs, largest first, without allocating.
+  std::array<std::pair<double, int>, kEdgePoints> edge;
+  int k = 0;
+  for (int i : indices) {
+    const std::pair<double, int> e(sign * n.dot(frame_points_[i].head<2>().cast<double>()), i);
+    int at = k;
+    while (at > 0 && (e.first > edge[at - 1].first || (e.first == edge[at - 1].first && e.second < edge[at - 1].second))) --at;
+    if (at >= kEdgePoints) continue;
+    for (int m = std::min(k, kEdgePoints - 1); m > at; --m) edge[m] = edge[m - 1];
+    edge[at] = e;
+    k = std::min(k + 1, kEdgePoints);
+  }
+  // +n is the line of sight turned anticlockwise: turning a ray anticlockwise looks past the hi side.
   const double bin = params_.segmentation.free_space_bin_deg * M_PI / 180.0;
-  for (std::size_t e = 0; e < k; ++e) {
-    const Eigen::Vector3f ray = frame_points_[by_b[e].second] - sensor_origin_;
+  std::array<float, kSteps> cs, sn;
+  for (int step = 1; step <= kSteps; ++step) {
+    cs[step - 1] = static_cast<float>(std::cos(sign * bin * step));
+    sn[step - 1] = static_cast<float>(std::sin(sign * bin * step));
+  }
+  for (int e = 0; e < k; ++e) {
+    const Eigen::Vector3f ray = frame_points_[edge[e].second] - sensor_origin_;
     const float r = ray.norm();
-    for (int step = 1; step <= 3; ++step) {
-      // +n is the line of sight turned anticlockwise: turning the ray anticlockwise looks past the hi side.
-      const double a = sign * bin * step;
-      const float c = static_cast<float>(std::cos(a)), s = static_cast<float>(std::sin(a));
+    for (int step = 0; step < kSteps; ++step) {
+      const float c = cs[step], s = sn[step];
       const Eigen::Vector3f turned(c * ray.x() - s * ray.y(), s * ray.x() + c * ray.y(), ray.z());
       const int b = angularBin(turned), az = b / el_bins_, el = b % el_bins_;
       for (int de = -1; de <= 1; ++de) {

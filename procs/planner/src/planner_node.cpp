@@ -279,6 +279,15 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     record(info);
     return out;
   };
+  auto follow = [&](const trajectory::PiecewisePolynomial& pp, const std::string& msg) {
+    info.result = PlanResult::kOk;
+    info.message = msg;
+    out.trajectory = finish(pp, now, trajectory_t::STATUS_OK, msg);
+    info.total_ms = msSince(t_start);
+    out.plan = info;
+    record(info);
+    return out;
+  };
 
   // Inputs.
   if (!pose_ || clock_.ageSeconds(pose_->utime) > params_.pose_timeout_s) {
@@ -453,24 +462,12 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
         char buf[160];
         std::snprintf(buf, sizeof(buf), "least bad: movers predicted within reach after %.2f s, braking %.2f s",
                       fallback_->contact_s, t_stop);
-        info.result = PlanResult::kOk;
-        info.message = buf;
-        out.trajectory = finish(fallback_->pp, now, trajectory_t::STATUS_OK, info.message);
-        info.total_ms = msSince(t_start);
-        out.plan = info;
-        record(info);
-        return out;
+        return follow(fallback_->pp, buf);
       }
     }
     return stop(PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
   }
-  info.result = PlanResult::kOk;
-  info.message = evasive_note.empty() ? guide_note : evasive_note;
-  out.trajectory = finish(candidate, now, trajectory_t::STATUS_OK, info.message);
-  info.total_ms = msSince(t_start);
-  out.plan = info;
-  record(info);
-  return out;
+  return follow(candidate, evasive_note.empty() ? guide_note : evasive_note);
 }
 
 trajopt::PlanOutput PlannerNode::planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations) {
