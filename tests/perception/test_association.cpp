@@ -163,3 +163,93 @@ TEST(ReidentificationScore, GivenTwoCandidatesThenTheOneWhoseLineThePersonKeptWi
   p.reid_cross_speed = 0.0;
   EXPECT_NEAR(reidentificationScore(first, {3.7, 2.9}, {0.0, -1.2}, dt, p), std::hypot(0.7, 0.9), 1e-12);
 }
+
+TEST(PassesCrossGate, GivenATrackUnseenForAWhileThenOnlyCentresNearItsLineArePassed) {
+  AssociationParams p;
+  p.cross_gate = 0.3;
+  p.cross_gate_growth = 0.15;
+  p.cross_gate_after = 0.1;
+  p.cross_gate_until = 2.5;
+  p.direction_min_speed = 0.3;
+  // Predicted at (3, 4), last seen 0.6 s ago walking +y at 1 m/s: the line is x = 3 and the
+  // bound 0.3 + 0.15 * 0.6 = 0.39 m.
+  TrackView h = track(box(3.0, 4.0, 0.5, 0.5));
+  h.seen_velocity = {0.0, 1.0};
+  h.since_last = 0.6;
+  EXPECT_TRUE(passesCrossGate({3.35, 4.9}, h, p));   // 0.35 across, far along: passed
+  EXPECT_TRUE(passesCrossGate({2.65, 2.5}, h, p));   // turned back along the line: passed
+  EXPECT_FALSE(passesCrossGate({3.6, 4.2}, h, p));   // the neighbour's line 0.6 m across
+  EXPECT_FALSE(passesCrossGate({2.55, 4.0}, h, p));  // 0.45 across on the other side
+  // The bound grows with the time unseen: 0.3 + 0.15 * 2 = 0.6.
+  h.since_last = 2.0;
+  EXPECT_TRUE(passesCrossGate({3.55, 4.2}, h, p));
+  EXPECT_FALSE(passesCrossGate({3.65, 4.2}, h, p));
+  // Unseen for longer than cross_gate_until (a hiding long enough to hide a turn): not gated.
+  h.since_last = 2.6;
+  EXPECT_TRUE(passesCrossGate({5.0, 4.2}, h, p));
+  // A heading at an angle: the distance is measured across it, not along x.
+  h.seen_velocity = {1.0, 1.0};
+  h.since_last = 0.6;
+  EXPECT_TRUE(passesCrossGate({4.0, 5.0}, h, p));    // on the diagonal line
+  EXPECT_FALSE(passesCrossGate({3.5, 3.5}, h, p));   // 0.71 across it
+  // Does not apply: seen recently, no heading (slower than direction_min_speed), or off.
+  h.since_last = 0.05;
+  EXPECT_TRUE(passesCrossGate({3.5, 3.5}, h, p));
+  h.since_last = 0.6;
+  h.seen_velocity = {0.2, 0.0};
+  EXPECT_TRUE(passesCrossGate({3.0, 5.0}, h, p));
+  h.seen_velocity = {1.0, 1.0};
+  p.cross_gate = 0.0;
+  EXPECT_TRUE(passesCrossGate({3.5, 3.5}, h, p));
+}
+
+TEST(AssociateObjects, GivenACoastingTrackAndANeighbourReappearingBesideItsLineThenThePairIsForbidden) {
+  // Person A (track) walked +y on x = 3 and is hidden; person B reappears on x = 3.7, within
+  // every distance gate of A's prediction. Without the cross gate A takes B's detection.
+  AssociationParams p;
+  p.max_distance = 1.0;
+  p.direction_min_speed = 0.3;
+  TrackView a = track(box(3.0, 4.0, 0.5, 0.5));
+  a.seen_velocity = {0.0, 1.0};
+  a.velocity = {0.0, 0.5};
+  a.has_velocity = true;
+  a.last_center = {3.0, 3.4};
+  a.since_last = 0.6;
+  const std::vector<DetectionView> det{{box(3.7, 4.1, 0.5, 0.5)}};
+  EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], 0);
+  p.cross_gate = 0.3;
+  p.cross_gate_growth = 0.15;
+  EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], -1);
+  // A's own reappearance on its line, ahead of the decayed prediction, is still matched.
+  EXPECT_EQ(associateObjects({{box(3.05, 4.5, 0.5, 0.5)}}, {a}, p).detection_to_track[0], 0);
+}
+
+TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjectAgainstACoastingTrack) {
+  // A partly hidden person's small view: eq. 1 prefers the coasting track (its faded direction
+  // term and its size), the nearer track that saw the person last frame loses it without the
+  // cascade.
+  AssociationParams p;
+  p.max_distance = 1.0;
+  p.distance_weight = 1.0;
+  p.cost_gate = 1.3;
+  TrackView seen = track(box(3.53, -1.88, 0.5, 0.5));
+  seen.since_last = 0.02;
+  seen.has_velocity = true;
+  seen.velocity = {0.0, 0.7};
+  seen.last_center = {3.53, -1.90};
+  TrackView coasting = track(box(3.04, -1.80, 0.2, 0.3));
+  coasting.since_last = 2.2;
+  const std::vector<DetectionView> det{{box(3.49, -2.0, 0.14, 0.3)}};
+  ASSERT_LT(associationCost(det[0], coasting, p) + (det[0].box.center - coasting.box.center).norm(),
+            associationCost(det[0], seen, p) + (det[0].box.center - seen.box.center).norm());
+  EXPECT_EQ(associateObjects(det, {seen, coasting}, p).detection_to_track[0], 1);
+  p.cascade_after = 0.1;
+  Matching m = associateObjects(det, {seen, coasting}, p);
+  EXPECT_EQ(m.detection_to_track[0], 0);
+  EXPECT_EQ(m.track_to_detection[1], -1);
+  // The coasting track still takes a detection the recent tracks leave.
+  const std::vector<DetectionView> two{{box(3.49, -2.0, 0.14, 0.3)}, {box(3.1, -1.7, 0.2, 0.3)}};
+  m = associateObjects(two, {seen, coasting}, p);
+  EXPECT_EQ(m.detection_to_track[0], 0);
+  EXPECT_EQ(m.detection_to_track[1], 1);
+}

@@ -82,6 +82,16 @@ double distanceGate(const TrackView& h, const AssociationParams& p) {
   return std::min(p.max_distance_cap, p.max_distance + p.distance_growth * std::max(0.0, h.since_last));
 }
 
+bool passesCrossGate(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p) {
+  if (!(p.cross_gate > 0.0) || !(h.since_last >= p.cross_gate_after) || !(h.since_last <= p.cross_gate_until))
+    return true;
+  const double speed = h.seen_velocity.norm();
+  if (!(speed >= p.direction_min_speed)) return true;
+  const Eigen::Vector2d u = h.seen_velocity / speed, r = center - h.box.center;
+  const double cross = std::abs(u.x() * r.y() - u.y() * r.x());
+  return cross <= p.cross_gate + p.cross_gate_growth * h.since_last;
+}
+
 Matching associateObjects(const std::vector<DetectionView>& detections,
                           const std::vector<TrackView>& tracks, const AssociationParams& p) {
   Matching m;
@@ -94,18 +104,37 @@ Matching associateObjects(const std::vector<DetectionView>& detections,
       const double d = (detections[i].box.center - tracks[j].box.center).norm();
       if (!(d <= distanceGate(tracks[j], p))) continue;
       if (p.gate_sigma > 0.0 && !(mahalanobis2(detections[i], tracks[j], p) <= p.gate_sigma * p.gate_sigma)) continue;
+      if (!passesCrossGate(detections[i].box.center, tracks[j], p)) continue;
       const double f = associationCost(detections[i], tracks[j], p);
       // The gate applies to eq. 1; the distance term only ranks the pairs that pass it (a
       // long-coasting track with a wide gate must not win over a nearer one).
       if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f + p.distance_weight * d;
     }
   }
-  const std::vector<int> a = solveAssignment(cost);
-  for (int i = 0; i < cost.rows; ++i) {
-    if (a[i] < 0) continue;
-    m.detection_to_track[i] = a[i];
-    m.track_to_detection[a[i]] = i;
-  }
+  // Matching cascade: tracks seen within cascade_after first, then the others on the
+  // detections left. A coasting track's wide gates and faded direction term must not let it
+  // outbid the track that is still following a partly hidden object.
+  const auto solve = [&](bool recent_only) {
+    CostMatrix stage(cost.rows, cost.cols);  // the pairs still open in this stage
+    bool any = false;
+    for (int i = 0; i < cost.rows; ++i) {
+      if (m.detection_to_track[i] >= 0) continue;
+      for (int j = 0; j < cost.cols; ++j) {
+        if (m.track_to_detection[j] >= 0 || (recent_only && tracks[j].since_last > p.cascade_after)) continue;
+        stage(i, j) = cost(i, j);
+        any = any || std::isfinite(stage(i, j));
+      }
+    }
+    if (!any) return;
+    const std::vector<int> a = solveAssignment(stage);
+    for (int i = 0; i < cost.rows; ++i) {
+      if (a[i] < 0) continue;
+      m.detection_to_track[i] = a[i];
+      m.track_to_detection[a[i]] = i;
+    }
+  };
+  if (p.cascade_after > 0.0) solve(true);
+  solve(false);
   return m;
 }
 

@@ -59,6 +59,11 @@ void AssociationParams::read(ConfigReader& r) {
   r.read("gate_sigma", gate_sigma, 0.0, 100.0);
   r.read("centroid_std", centroid_std, 1e-3, 10.0);
   r.read("distance_weight", distance_weight, 0.0, 100.0);
+  r.read("cross_gate", cross_gate, 0.0, 10.0);
+  r.read("cross_gate_growth", cross_gate_growth, 0.0, 10.0);
+  r.read("cross_gate_after", cross_gate_after, 0.0, 10.0);
+  r.read("cross_gate_until", cross_gate_until, 0.0, 100.0);
+  r.read("cascade_after", cascade_after, 0.0, 100.0);
 }
 
 void ReassociationParams::read(ConfigReader& r) {

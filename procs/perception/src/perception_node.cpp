@@ -263,6 +263,11 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
         for (int i : mine) c += frame_points_[i].head<2>().cast<double>();
         c /= static_cast<double>(mine.size());
         if ((c - tracks_[j].kf.state().head<2>()).norm() > params_.reassociation.max_shift) continue;
+        // Nor a neighbour on the next line (see passesCrossGate), judged by the centre the
+        // measurement will have.
+        const Eigen::Vector2d view_c = viewCorrectedCenter(frame_points_, mine, sensor_origin_.head<2>().cast<double>(),
+                                                           params_.segmentation.view_center_shift);
+        if (!passesCrossGate(view_c, tviews[j], params_.object_association)) continue;
         meas_points[j] = std::move(mine);
         meas_how[j] = TO::ASSOC_REASSOCIATED;
         status_.count("reassociations");
@@ -575,6 +580,7 @@ std::vector<TrackView> PerceptionNode::trackViews(int64_t utime) const {
     t.last_center = tr.measured.empty() ? t.box.center : tr.measured.back().second.head<2>();
     t.since_last = seconds(utime - tr.last_seen_utime);
     t.position_cov = tr.kf.covariance().topLeftCorner<2, 2>();
+    t.seen_velocity = tr.seen_velocity;
     v.push_back(t);
   }
   return v;

@@ -38,7 +38,18 @@ struct TrackView {
   Eigen::Vector2d last_center = Eigen::Vector2d::Zero();  ///< last measured centre [m]
   double since_last = 0.0;         ///< time since that measurement [s], >= 0
   Eigen::Matrix2d position_cov = Eigen::Matrix2d::Zero();  ///< predicted x-y covariance [m^2]
+  Eigen::Vector2d seen_velocity = Eigen::Vector2d::Zero();  ///< filtered velocity when last measured [m/s]
 };
+
+/// Cross-heading gate of a track unseen for a while. People hidden behind something keep
+/// their line (they speed up, stop or turn back along it) far more often than they step
+/// sideways, while another person walking a neighbouring line is exactly a sideways step
+/// away: a track unseen for at least cross_gate_after, last seen moving faster than
+/// direction_min_speed, only takes a centre within cross_gate + cross_gate_growth * unseen
+/// across the line through its predicted centre along the heading it was last seen on.
+/// A real sideways return is rejected at first and comes back through re-identification.
+/// True when the gate is off or does not apply.
+bool passesCrossGate(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p);
 
 /// Squared Mahalanobis distance of a detection centre from a track's predicted centre, with
 /// the track's predicted x-y covariance plus centroid_std^2 on the diagonal.
@@ -71,8 +82,10 @@ struct Matching {
   std::vector<int> track_to_detection;
 };
 
-/// UCON: Hungarian matching on eq. 1; pairs above cost_gate or with centres farther than
-/// distanceGate() are forbidden.
+/// UCON: Hungarian matching on eq. 1; pairs above cost_gate, with centres farther than
+/// distanceGate(), outside the Mahalanobis gate or failing passesCrossGate() are forbidden.
+/// With cascade_after > 0 the tracks seen within cascade_after are matched first and the
+/// others then match the detections left (a matching cascade by time unseen).
 Matching associateObjects(const std::vector<DetectionView>& detections,
                           const std::vector<TrackView>& tracks, const AssociationParams& p);
 

@@ -64,6 +64,11 @@ struct AssociationParams {
   double gate_sigma = 0.0;           ///< Mahalanobis gate on the predicted centre (Kalman covariance + centroid_std); 0 = off
   double distance_weight = 0.0;      ///< cost per metre of centre distance added to eq. 1 for ranking (not gated)
   double centroid_std = 0.15;        ///< [m] spread of a cluster centre around the body centre (partial views, merges)
+  double cross_gate = 0.0;           ///< a track unseen for cross_gate_after takes no centre farther than this across its last heading [m]; 0 = off
+  double cross_gate_growth = 0.0;    ///< ... plus this per second unseen [m/s]
+  double cross_gate_after = 0.1;     ///< unseen this long before the cross gate applies [s]
+  double cascade_after = 0.0;        ///< tracks seen within this are matched before the others [s]; 0 = one matching
+  double cross_gate_until = 1.5;     ///< ... and no longer than this (a longer hiding may hide a turn) [s]
   void read(ConfigReader& r);
 };
 
@@ -90,7 +95,7 @@ struct TrackParams {
   double new_track_separation = 0.7;  ///< no new track from a cluster this close to an existing track [m]
   double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
   double reid_margin = 0.5;         ///< [m]
-  double reid_window = 6.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
+  double reid_window = 8.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
   double reid_cross_speed = 0.0;    ///< candidates are ranked with reid_speed along and this across their last heading [m/s]; 0 = by plain distance
   double merge_margin = 0.3;        ///< a matched cluster larger than the track's box by this is a merge [m]
   double tentative_max_age = 1.0;   ///< a tentative track older than this is deleted [s]
