@@ -253,3 +253,19 @@ TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjec
   EXPECT_EQ(m.detection_to_track[0], 0);
   EXPECT_EQ(m.detection_to_track[1], 1);
 }
+
+TEST(AssociationCost, GivenATrackBoxShrunkByPartialViewsThenTheSizeTermIsMeasuredAgainstTheFloor) {
+  // The track's box shrank to 0.16 x 0.07 m under partial views; the full view of the same
+  // person (0.41 x 0.31) comes back.
+  AssociationParams p;
+  p.mu = {0.0, 0.0, 1.0};  // the size term alone
+  const TrackView h = track(box(3.66, -3.64, 0.16, 0.07));
+  const DetectionView c{box(3.68, -3.65, 0.41, 0.31)};
+  const double change = std::hypot(0.41 - 0.16, 0.31 - 0.07);
+  EXPECT_NEAR(associationCost(c, h, p), change / std::hypot(0.16, 0.07), 1e-9);  // > 2
+  p.size_floor = 0.5;
+  EXPECT_NEAR(associationCost(c, h, p), change / 0.5, 1e-9);
+  // A track box larger than the floor is unaffected.
+  const TrackView big = track(box(3.66, -3.64, 0.5, 0.4));
+  EXPECT_NEAR(associationCost(c, big, p), std::hypot(0.09, 0.09) / std::hypot(0.5, 0.4), 1e-9);
+}

@@ -50,8 +50,10 @@ double associationCost(const DetectionView& c, const TrackView& h, const Associa
       dir = w * (1.0 - cosang);
     }
   }
-  // Term 3: relative size change; |s_h| floored so that a degenerate track box stays finite.
-  const double sh = std::max(h.box.size.norm(), 0.05);
+  // Term 3: relative size change; |s_h| floored at size_floor: a track box shrunk by partial
+  // views (a few centimetres) would make any full view of the same object look like a
+  // different object.
+  const double sh = std::max(h.box.size.norm(), std::max(p.size_floor, 0.05));
   const double size = (c.box.size - h.box.size).norm() / sh;
   return p.mu[0] * (1.0 - iou) + p.mu[1] * dir + p.mu[2] * size;
 }
