@@ -269,3 +269,33 @@ TEST(AssociationCost, GivenATrackBoxShrunkByPartialViewsThenTheSizeTermIsMeasure
   const TrackView big = track(box(3.66, -3.64, 0.5, 0.4));
   EXPECT_NEAR(associationCost(c, big, p), std::hypot(0.09, 0.09) / std::hypot(0.5, 0.4), 1e-9);
 }
+
+TEST(RankingDistance, GivenACoastingTrackThenTheOffsetAcrossItsHeadingCountsMore) {
+  AssociationParams p;
+  p.cross_rank_weight = 3.0;
+  p.cross_gate_after = 0.1;
+  p.direction_min_speed = 0.3;
+  // Track A walked -y on x = 3.6 and overshot the walk end; track B walked -y on x = 3.05.
+  // The person of A turned back while hidden and reappears 1.25 m behind A's prediction, on
+  // A's line, 0.55 m across B's line and 0.43 m behind B's prediction.
+  TrackView a = track(box(3.60, -5.37, 0.5, 0.5));
+  a.seen_velocity = {0.0, -1.0};
+  a.since_last = 2.5;
+  TrackView b = track(box(3.05, -4.55, 0.5, 0.5));
+  b.seen_velocity = {0.0, -0.8};
+  b.since_last = 2.4;
+  const Eigen::Vector2d c(3.60, -4.12);
+  EXPECT_LT((c - b.box.center).norm(), (c - a.box.center).norm());
+  EXPECT_NEAR(rankingDistance(c, a, p), 1.25, 1e-9);
+  EXPECT_NEAR(rankingDistance(c, b, p), std::hypot(0.43, 3.0 * 0.55), 1e-9);
+  EXPECT_LT(rankingDistance(c, a, p), rankingDistance(c, b, p));
+  // Seen recently, without a heading, or with weight 1: the plain distance.
+  b.since_last = 0.02;
+  EXPECT_NEAR(rankingDistance(c, b, p), (c - b.box.center).norm(), 1e-9);
+  b.since_last = 2.4;
+  b.seen_velocity = {0.0, -0.1};
+  EXPECT_NEAR(rankingDistance(c, b, p), (c - b.box.center).norm(), 1e-9);
+  b.seen_velocity = {0.0, -0.8};
+  p.cross_rank_weight = 1.0;
+  EXPECT_NEAR(rankingDistance(c, b, p), (c - b.box.center).norm(), 1e-9);
+}

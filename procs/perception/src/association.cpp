@@ -94,6 +94,16 @@ bool passesCrossGate(const Eigen::Vector2d& center, const TrackView& h, const As
   return cross <= p.cross_gate + p.cross_gate_growth * h.since_last;
 }
 
+double rankingDistance(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p) {
+  const Eigen::Vector2d r = center - h.box.center;
+  const double speed = h.seen_velocity.norm();
+  if (!(p.cross_rank_weight > 1.0) || !(h.since_last >= p.cross_gate_after) || !(speed >= p.direction_min_speed))
+    return r.norm();
+  const Eigen::Vector2d u = h.seen_velocity / speed;
+  const double along = r.dot(u), cross = (u.x() * r.y() - u.y() * r.x()) * p.cross_rank_weight;
+  return std::sqrt(along * along + cross * cross);
+}
+
 Matching associateObjects(const std::vector<DetectionView>& detections,
                           const std::vector<TrackView>& tracks, const AssociationParams& p) {
   Matching m;
@@ -110,7 +120,7 @@ Matching associateObjects(const std::vector<DetectionView>& detections,
       const double f = associationCost(detections[i], tracks[j], p);
       // The gate applies to eq. 1; the distance term only ranks the pairs that pass it (a
       // long-coasting track with a wide gate must not win over a nearer one).
-      if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f + p.distance_weight * d;
+      if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f + p.distance_weight * rankingDistance(detections[i].box.center, tracks[j], p);
     }
   }
   // Matching cascade: tracks seen within cascade_after first, then the others on the

@@ -65,6 +65,7 @@ void AssociationParams::read(ConfigReader& r) {
   r.read("cross_gate_until", cross_gate_until, 0.0, 100.0);
   r.read("cascade_after", cascade_after, 0.0, 100.0);
   r.read("size_floor", size_floor, 0.0, 10.0);
+  r.read("cross_rank_weight", cross_rank_weight, 1.0, 100.0);
 }
 
 void ReassociationParams::read(ConfigReader& r) {

@@ -65,6 +65,7 @@ double distanceGate(const TrackView& h, const AssociationParams& p);
 /// The direction of c is the velocity the pair implies, (centre_c - last centre_h) / dt.
 /// Directions of slow objects are noise and a new track has none: the direction term is
 /// scaled by min(1, min(|v_c|, |v_h|) / direction_min_speed), and is 0 without a velocity.
+/// |s_h| is floored at size_floor (a track box shrunk by partial views stays comparable).
 double associationCost(const DetectionView& c, const TrackView& h, const AssociationParams& p);
 
 /// Re-identification ranking (lower is better) of a candidate last seen at `last` with velocity
@@ -75,6 +76,12 @@ double associationCost(const DetectionView& c, const TrackView& h, const Associa
 /// heading (slower than confirm_min_speed) or with reid_cross_speed 0: the plain distance.
 double reidentificationScore(const Eigen::Vector2d& first, const Eigen::Vector2d& last,
                              const Eigen::Vector2d& seen_velocity, double dt, const TrackParams& p);
+
+/// Centre distance by which gated pairs are ranked [m]: for a track unseen for at least
+/// cross_gate_after and last seen moving faster than direction_min_speed, the offset across
+/// its last heading counts cross_rank_weight times (a hidden person more likely sped up,
+/// stopped or turned back along the line than stepped sideways); otherwise the plain distance.
+double rankingDistance(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p);
 
 /// Matching result: for each detection the matched track index, or -1; and the reverse.
 struct Matching {
