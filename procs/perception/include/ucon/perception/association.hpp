@@ -44,10 +44,11 @@ struct TrackView {
 /// Cross-heading gate of a track unseen for a while. People hidden behind something keep
 /// their line (they speed up, stop or turn back along it) far more often than they step
 /// sideways, while another person walking a neighbouring line is exactly a sideways step
-/// away: a track unseen for at least cross_gate_after, last seen moving faster than
-/// direction_min_speed, only takes a centre within cross_gate + cross_gate_growth * unseen
-/// across the line through its predicted centre along the heading it was last seen on.
-/// A real sideways return is rejected at first and comes back through re-identification.
+/// away: a track unseen for at least cross_gate_after and at most cross_gate_until, last seen
+/// moving faster than direction_min_speed, only takes a centre within cross_gate +
+/// cross_gate_growth * unseen across the line through its predicted centre along the heading
+/// it was last seen on. A real sideways return is rejected at first and comes back through
+/// re-identification; after cross_gate_until (long enough to hide a turn) the gate is off.
 /// True when the gate is off or does not apply.
 bool passesCrossGate(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p);
 

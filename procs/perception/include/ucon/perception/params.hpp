@@ -67,10 +67,10 @@ struct AssociationParams {
   double cross_gate = 0.0;           ///< a track unseen for cross_gate_after takes no centre farther than this across its last heading [m]; 0 = off
   double cross_gate_growth = 0.0;    ///< ... plus this per second unseen [m/s]
   double cross_gate_after = 0.1;     ///< unseen this long before the cross gate applies [s]
+  double cross_gate_until = 2.0;     ///< ... and no longer than this (a longer hiding may hide a turn) [s]
   double cross_rank_weight = 1.0;    ///< rankingDistance(): weight of the offset across a coasting track's heading (1 = plain distance)
   double size_floor = 0.0;           ///< eq. 1's size term divides by max(|s_h|, this) [m]
   double cascade_after = 0.0;        ///< tracks seen within this are matched before the others [s]; 0 = one matching
-  double cross_gate_until = 1.5;     ///< ... and no longer than this (a longer hiding may hide a turn) [s]
   void read(ConfigReader& r);
 };
 
