@@ -9,7 +9,7 @@
 #
 #   test_fullrate.sh BIN_DIR TEST_BIN_DIR [DURATION_S=60]
 #
-# UDP on 127.0.0.1 ports 57200-57241, LCM on udpm port 7820.
+# UDP on 127.0.0.1 ports 27200-27241, LCM on udpm port 7820.
 set -u
 BIN=${1:?usage: test_fullrate.sh BIN_DIR TEST_BIN_DIR [DURATION_S]}
 TBIN=${2:?}
@@ -34,10 +34,10 @@ for exe in "$BIN/ucon-simulator" "$BIN/ucon-lidar-driver" "$BIN/ucon-logger" "$T
 done
 
 # Configs: the deployed ones with the Mid-360 ports moved into this test's range
-# (56abc -> 572ac: 56000 -> 57200, 56101 -> 57211, 56401 -> 57241, ...).
+# (56abc -> 272ac: 56000 -> 27200, 56101 -> 27211, 56401 -> 27241, ...).
 mkdir -p "$tmp/cfg" "$tmp/logs"
 for f in simulator lidar_driver base_controller logger; do
-  sed -E 's/\b56([0-9])0([0-9])\b/572\1\2/g' "$ROOT/deploy/config/$f.yaml" >"$tmp/cfg/$f.yaml"
+  sed -E 's/\b56([0-9])0([0-9])\b/272\1\2/g' "$ROOT/deploy/config/$f.yaml" >"$tmp/cfg/$f.yaml"
 done
 
 # Kernel UDP receive-buffer overflows (all sockets of this host; other users add noise).

@@ -1,6 +1,6 @@
 // ucon-lidar-driver as a process: no sensor answering -> clear error and exit 1 within the
 // timeout; a fake Mid-360 on loopback is configured and its packets come out as LIDAR_POINTS
-// frames on LCM; SIGTERM -> clean exit 0. Ports: UDP 57000-57029, LCM 7720-7722.
+// frames on LCM; SIGTERM -> clean exit 0. Ports: UDP 27000-27029, LCM 7720-7722.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 #include <fcntl.h>
@@ -103,7 +103,7 @@ int waitFor(pid_t pid, double limit_s, double* elapsed_s) {
 }  // namespace
 
 TEST(LidarDriverProcess, GivenNoSensorAnsweringThenItExitsNonZeroWithinTheTimeoutNamingWhatToCheck) {
-  const std::string cfg = writeTemp("ld_nosensor.yaml", configText(57000, 1.0));
+  const std::string cfg = writeTemp("ld_nosensor.yaml", configText(27000, 1.0));
   const std::string log = ::testing::TempDir() + "ld_nosensor.log";
   const pid_t pid = spawnDriver(cfg, "udpm://239.255.76.67:7720?ttl=0", log);
   ASSERT_GT(pid, 0);
@@ -114,12 +114,12 @@ TEST(LidarDriverProcess, GivenNoSensorAnsweringThenItExitsNonZeroWithinTheTimeou
   EXPECT_LT(elapsed, 3.0) << "timeout_s is 1.0";
   EXPECT_NE(out.find("error"), std::string::npos) << out;
   EXPECT_NE(out.find("no Mid-360 answered"), std::string::npos) << out;
-  EXPECT_NE(out.find("127.0.0.1:57001"), std::string::npos) << out;
+  EXPECT_NE(out.find("127.0.0.1:27001"), std::string::npos) << out;
   EXPECT_NE(out.find("ucon-simulator"), std::string::npos) << out;
 }
 
 TEST(LidarDriverProcess, GivenABadConfigThenItExitsWithCode2NamingTheKey) {
-  std::string text = configText(57010, 1.0);
+  std::string text = configText(27010, 1.0);
   text.replace(text.find("rate_hz: 50"), 11, "rate_hz: 33");
   const std::string cfg = writeTemp("ld_badcfg.yaml", text);
   const std::string log = ::testing::TempDir() + "ld_badcfg.log";
@@ -154,7 +154,7 @@ struct Received {
 }  // namespace
 
 TEST(LidarDriverProcess, GivenAFakeSensorThenItIsConfiguredAndItsPacketsBecomeFramesOnLcm) {
-  const int base = 57020;
+  const int base = 27020;
   const std::string url = "udpm://239.255.76.67:7721?ttl=0";
   lcm::LCM lcm(url);
   ASSERT_TRUE(lcm.good());

@@ -12,16 +12,16 @@ using ucon::lidar_driver::UdpSocket;
 
 TEST(UdpSocket, GivenDatagramsOnLoopbackThenABatchReceiveReturnsThemWithSizesAndSource) {
   std::string err, warn;
-  auto rx = UdpSocket::open("127.0.0.1", 57026, 1 << 20, &err, &warn);
+  auto rx = UdpSocket::open("127.0.0.1", 27026, 1 << 20, &err, &warn);
   ASSERT_TRUE(rx) << err;
-  auto tx = UdpSocket::open("127.0.0.1", 57027, 0, &err, &warn);
+  auto tx = UdpSocket::open("127.0.0.1", 27027, 0, &err, &warn);
   ASSERT_TRUE(tx) << err;
   std::vector<uint8_t> buf(3000);
   for (int i = 0; i < 100; ++i) {
     buf[0] = static_cast<uint8_t>(i);
-    ASSERT_TRUE(tx->sendTo({127, 0, 0, 1}, 57026, buf.data(), 100 + static_cast<std::size_t>(i)));
+    ASSERT_TRUE(tx->sendTo({127, 0, 0, 1}, 27026, buf.data(), 100 + static_cast<std::size_t>(i)));
   }
-  ASSERT_TRUE(tx->sendTo({127, 0, 0, 1}, 57026, buf.data(), 3000));  // larger than a slot
+  ASSERT_TRUE(tx->sendTo({127, 0, 0, 1}, 27026, buf.data(), 3000));  // larger than a slot
   int got = 0, batches = 0;
   bool saw_truncated = false;
   for (int tries = 0; tries < 100 && got < 101; ++tries) {
@@ -32,7 +32,7 @@ TEST(UdpSocket, GivenDatagramsOnLoopbackThenABatchReceiveReturnsThemWithSizesAnd
     if (n > 0) ++batches;
     for (int i = 0; i < n; ++i, ++got) {
       EXPECT_EQ(rx->sourceIp(i), (std::array<uint8_t, 4>{127, 0, 0, 1}));
-      EXPECT_EQ(rx->sourcePort(i), 57027);
+      EXPECT_EQ(rx->sourcePort(i), 27027);
       if (got < 100) {
         EXPECT_EQ(rx->size(i), 100u + static_cast<std::size_t>(got));
         EXPECT_EQ(rx->data(i)[0], got);
@@ -50,16 +50,16 @@ TEST(UdpSocket, GivenDatagramsOnLoopbackThenABatchReceiveReturnsThemWithSizesAnd
 
 TEST(UdpSocket, GivenAnAddressInUseOrNotLocalThenOpenFailsNamingIt) {
   std::string err, warn;
-  auto a = UdpSocket::open("127.0.0.1", 57028, 0, &err, &warn);
+  auto a = UdpSocket::open("127.0.0.1", 27028, 0, &err, &warn);
   ASSERT_TRUE(a) << err;
-  auto b = UdpSocket::open("127.0.0.1", 57028, 0, &err, &warn);
+  auto b = UdpSocket::open("127.0.0.1", 27028, 0, &err, &warn);
   EXPECT_FALSE(b);
-  EXPECT_NE(err.find("127.0.0.1:57028"), std::string::npos) << err;
+  EXPECT_NE(err.find("127.0.0.1:27028"), std::string::npos) << err;
   EXPECT_NE(err.find("another"), std::string::npos) << err;
-  auto c = UdpSocket::open("192.0.2.1", 57029, 0, &err, &warn);  // TEST-NET-1: never local
+  auto c = UdpSocket::open("192.0.2.1", 27029, 0, &err, &warn);  // TEST-NET-1: never local
   EXPECT_FALSE(c);
   EXPECT_NE(err.find("network.host_ip"), std::string::npos) << err;
-  EXPECT_FALSE(UdpSocket::open("not-an-ip", 57029, 0, &err, &warn));
+  EXPECT_FALSE(UdpSocket::open("not-an-ip", 27029, 0, &err, &warn));
 }
 
 TEST(UdpSocket, GivenABufferAboveTheKernelLimitThenItIsGrantedWhenPrivilegedElseAWarningNamesRmemMax) {
@@ -68,7 +68,7 @@ TEST(UdpSocket, GivenABufferAboveTheKernelLimitThenItIsGrantedWhenPrivilegedElse
   ASSERT_GT(rmem_max, 0);
   const int ask = std::min(2 * rmem_max, 1 << 29);
   std::string err, warn;
-  auto s = UdpSocket::open("127.0.0.1", 57025, ask, &err, &warn);
+  auto s = UdpSocket::open("127.0.0.1", 27025, ask, &err, &warn);
   ASSERT_TRUE(s) << err;
   if (geteuid() == 0) {
     // CAP_NET_ADMIN: SO_RCVBUFFORCE passes the limit.

@@ -7,7 +7,7 @@
 #
 #   test_supervision.sh BUILD_DIR
 #
-# LCM on udpm port 7821; UDP on 127.0.0.1 ports 57250-57291.
+# LCM on udpm port 7821; UDP on 127.0.0.1 ports 27250-27291.
 set -u
 BUILD=${1:?usage: test_supervision.sh BUILD_DIR}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
@@ -30,11 +30,11 @@ trap cleanup EXIT
 for exe in ucon-simulator ucon-lidar-driver ucon-base-controller ucon-logger; do
   [ -x "$BUILD/bin/$exe" ] || { echo "FAIL: $BUILD/bin/$exe is not built"; exit 1; }
 done
-# Deployed configs with this test's UDP ports (Mid-360 defaults 56000..56401 -> 57250..57291).
+# Deployed configs with this test's UDP ports (Mid-360 defaults 56000..56401 -> 27250..27291).
 mkdir -p "$UCON_TEST_CFG"
 for f in simulator lidar_driver base_controller logger; do
-  sed -E -e 's/\b56000\b/57250/g' -e 's/\b56100\b/57260/g' -e 's/\b56101\b/57261/g' \
-         -e 's/\b56300\b/57280/g' -e 's/\b56301\b/57281/g' -e 's/\b56400\b/57290/g' -e 's/\b56401\b/57291/g' \
+  sed -E -e 's/\b56000\b/27250/g' -e 's/\b56100\b/27260/g' -e 's/\b56101\b/27261/g' \
+         -e 's/\b56300\b/27280/g' -e 's/\b56301\b/27281/g' -e 's/\b56400\b/27290/g' -e 's/\b56401\b/27291/g' \
          "$ROOT/deploy/config/$f.yaml" >"$UCON_TEST_CFG/$f.yaml"
 done
 

@@ -25,9 +25,11 @@
 
 namespace {
 
-// Ports of this test (tests/simulator uses 57100-57199 for UDP, 7700-7719 for LCM).
-constexpr int kPointPort = 57110, kImuPort = 57111, kDiscoveryPort = 57112, kCommandPort = 57113;
-constexpr int kHostCommandPort = 57114;
+// Ports of this test (tests/simulator uses 27100-27199 for UDP, 7700-7719 for LCM). Tests bind UDP
+// ports below Linux's ephemeral range (32768-60999): a port in it can be held at any moment by
+// another process's automatically bound socket (an LCM sender), and the bind then fails.
+constexpr int kPointPort = 27110, kImuPort = 27111, kDiscoveryPort = 27112, kCommandPort = 27113;
+constexpr int kHostCommandPort = 27114;
 const char* kLcmUrl = "udpm://239.255.76.67:7702?ttl=0";
 
 int udpSocket(int port) {

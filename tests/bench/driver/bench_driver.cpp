@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Lidar driver benchmark: parser throughput and CPU share at the Mid-360 rate."};
   std::string json_path;
   bool quick = false;
-  int port = 57050;
+  int port = 27050;
   app.add_option("--json", json_path, "write the results as JSON to this file");
   app.add_flag("--quick", quick, "short run (ctest)");
   app.add_option("--port", port, "loopback UDP port for the CPU measurement (uses port+1 too)")
