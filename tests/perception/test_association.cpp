@@ -20,6 +20,13 @@ TrackView track(const BoxXY& b) {
   t.last_center = b.center;
   return t;
 }
+// A track predicted at b, unseen for `since_last` s after it was last seen moving at `seen`.
+TrackView coasting(const BoxXY& b, const Eigen::Vector2d& seen, double since_last) {
+  TrackView t = track(b);
+  t.seen_velocity = seen;
+  t.since_last = since_last;
+  return t;
+}
 }  // namespace
 
 TEST(IouXY, GivenHalfOverlappingUnitBoxesThenIouIsOneThird) {
@@ -173,9 +180,7 @@ TEST(PassesCrossGate, GivenATrackUnseenForAWhileThenOnlyCentresNearItsLineArePas
   p.direction_min_speed = 0.3;
   // Predicted at (3, 4), last seen 0.6 s ago walking +y at 1 m/s: the line is x = 3 and the
   // bound 0.3 + 0.15 * 0.6 = 0.39 m.
-  TrackView h = track(box(3.0, 4.0, 0.5, 0.5));
-  h.seen_velocity = {0.0, 1.0};
-  h.since_last = 0.6;
+  TrackView h = coasting(box(3.0, 4.0, 0.5, 0.5), {0.0, 1.0}, 0.6);
   EXPECT_TRUE(passesCrossGate({3.35, 4.9}, h, p));   // 0.35 across, far along: passed
   EXPECT_TRUE(passesCrossGate({2.65, 2.5}, h, p));   // turned back along the line: passed
   EXPECT_FALSE(passesCrossGate({3.6, 4.2}, h, p));   // the neighbour's line 0.6 m across
@@ -209,12 +214,10 @@ TEST(AssociateObjects, GivenACoastingTrackAndANeighbourReappearingBesideItsLineT
   AssociationParams p;
   p.max_distance = 1.0;
   p.direction_min_speed = 0.3;
-  TrackView a = track(box(3.0, 4.0, 0.5, 0.5));
-  a.seen_velocity = {0.0, 1.0};
+  TrackView a = coasting(box(3.0, 4.0, 0.5, 0.5), {0.0, 1.0}, 0.6);
   a.velocity = {0.0, 0.5};
   a.has_velocity = true;
   a.last_center = {3.0, 3.4};
-  a.since_last = 0.6;
   const std::vector<DetectionView> det{{box(3.7, 4.1, 0.5, 0.5)}};
   EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], 0);
   p.cross_gate = 0.3;
@@ -237,19 +240,18 @@ TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjec
   seen.has_velocity = true;
   seen.velocity = {0.0, 0.7};
   seen.last_center = {3.53, -1.90};
-  TrackView coasting = track(box(3.04, -1.80, 0.2, 0.3));
-  coasting.since_last = 2.2;
+  const TrackView hidden = coasting(box(3.04, -1.80, 0.2, 0.3), {0.0, 0.0}, 2.2);
   const std::vector<DetectionView> det{{box(3.49, -2.0, 0.14, 0.3)}};
-  ASSERT_LT(associationCost(det[0], coasting, p) + (det[0].box.center - coasting.box.center).norm(),
+  ASSERT_LT(associationCost(det[0], hidden, p) + (det[0].box.center - hidden.box.center).norm(),
             associationCost(det[0], seen, p) + (det[0].box.center - seen.box.center).norm());
-  EXPECT_EQ(associateObjects(det, {seen, coasting}, p).detection_to_track[0], 1);
+  EXPECT_EQ(associateObjects(det, {seen, hidden}, p).detection_to_track[0], 1);
   p.cascade_after = 0.1;
-  Matching m = associateObjects(det, {seen, coasting}, p);
+  Matching m = associateObjects(det, {seen, hidden}, p);
   EXPECT_EQ(m.detection_to_track[0], 0);
   EXPECT_EQ(m.track_to_detection[1], -1);
   // The coasting track still takes a detection the recent tracks leave.
   const std::vector<DetectionView> two{{box(3.49, -2.0, 0.14, 0.3)}, {box(3.1, -1.7, 0.2, 0.3)}};
-  m = associateObjects(two, {seen, coasting}, p);
+  m = associateObjects(two, {seen, hidden}, p);
   EXPECT_EQ(m.detection_to_track[0], 0);
   EXPECT_EQ(m.detection_to_track[1], 1);
 }
@@ -278,12 +280,8 @@ TEST(RankingDistance, GivenACoastingTrackThenTheOffsetAcrossItsHeadingCountsMore
   // Track A walked -y on x = 3.6 and overshot the walk end; track B walked -y on x = 3.05.
   // The person of A turned back while hidden and reappears 1.25 m behind A's prediction, on
   // A's line, 0.55 m across B's line and 0.43 m behind B's prediction.
-  TrackView a = track(box(3.60, -5.37, 0.5, 0.5));
-  a.seen_velocity = {0.0, -1.0};
-  a.since_last = 2.5;
-  TrackView b = track(box(3.05, -4.55, 0.5, 0.5));
-  b.seen_velocity = {0.0, -0.8};
-  b.since_last = 2.4;
+  const TrackView a = coasting(box(3.60, -5.37, 0.5, 0.5), {0.0, -1.0}, 2.5);
+  TrackView b = coasting(box(3.05, -4.55, 0.5, 0.5), {0.0, -0.8}, 2.4);
   const Eigen::Vector2d c(3.60, -4.12);
   EXPECT_LT((c - b.box.center).norm(), (c - a.box.center).norm());
   EXPECT_NEAR(rankingDistance(c, a, p), 1.25, 1e-9);

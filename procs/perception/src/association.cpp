@@ -68,14 +68,31 @@ double mahalanobis2(const DetectionView& c, const TrackView& h, const Associatio
   return (S(1, 1) * r.x() * r.x() - (S(0, 1) + S(1, 0)) * r.x() * r.y() + S(0, 0) * r.y() * r.y()) / det;
 }
 
+namespace {
+
+/// Offsets of r along the unit heading u and across it (positive to its left).
+Eigen::Vector2d alongCross(const Eigen::Vector2d& r, const Eigen::Vector2d& u) {
+  return {r.dot(u), u.x() * r.y() - u.y() * r.x()};
+}
+
+/// The unit heading a track was last seen moving on, when it has been unseen for at least
+/// cross_gate_after and was faster than direction_min_speed; zero otherwise.
+Eigen::Vector2d coastingHeading(const TrackView& h, const AssociationParams& p) {
+  const double speed = h.seen_velocity.norm();
+  if (!(h.since_last >= p.cross_gate_after) || !(speed >= p.direction_min_speed)) return Eigen::Vector2d::Zero();
+  return h.seen_velocity / speed;
+}
+
+}  // namespace
+
 double reidentificationScore(const Eigen::Vector2d& first, const Eigen::Vector2d& last,
                              const Eigen::Vector2d& seen_velocity, double dt, const TrackParams& p) {
   const Eigen::Vector2d r = first - last;
   const double s_along = p.reid_speed * dt + p.reid_margin;
   const double speed = seen_velocity.norm();
   if (p.reid_cross_speed <= 0.0 || !(speed >= p.confirm_min_speed) || !(s_along > 0.0)) return r.norm();
-  const Eigen::Vector2d u = seen_velocity / speed;
-  const double along = r.dot(u), cross = u.x() * r.y() - u.y() * r.x();
+  const Eigen::Vector2d ac = alongCross(r, seen_velocity / speed);
+  const double along = ac.x(), cross = ac.y();
   const double s_cross = p.reid_cross_speed * dt + p.reid_margin;
   return s_along * std::sqrt((along * along) / (s_along * s_along) + (cross * cross) / (s_cross * s_cross));
 }
@@ -85,22 +102,18 @@ double distanceGate(const TrackView& h, const AssociationParams& p) {
 }
 
 bool passesCrossGate(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p) {
-  if (!(p.cross_gate > 0.0) || !(h.since_last >= p.cross_gate_after) || !(h.since_last <= p.cross_gate_until))
-    return true;
-  const double speed = h.seen_velocity.norm();
-  if (!(speed >= p.direction_min_speed)) return true;
-  const Eigen::Vector2d u = h.seen_velocity / speed, r = center - h.box.center;
-  const double cross = std::abs(u.x() * r.y() - u.y() * r.x());
-  return cross <= p.cross_gate + p.cross_gate_growth * h.since_last;
+  if (!(p.cross_gate > 0.0) || !(h.since_last <= p.cross_gate_until)) return true;
+  const Eigen::Vector2d u = coastingHeading(h, p);
+  if (u.isZero()) return true;
+  return std::abs(alongCross(center - h.box.center, u).y()) <= p.cross_gate + p.cross_gate_growth * h.since_last;
 }
 
 double rankingDistance(const Eigen::Vector2d& center, const TrackView& h, const AssociationParams& p) {
   const Eigen::Vector2d r = center - h.box.center;
-  const double speed = h.seen_velocity.norm();
-  if (!(p.cross_rank_weight > 1.0) || !(h.since_last >= p.cross_gate_after) || !(speed >= p.direction_min_speed))
-    return r.norm();
-  const Eigen::Vector2d u = h.seen_velocity / speed;
-  const double along = r.dot(u), cross = (u.x() * r.y() - u.y() * r.x()) * p.cross_rank_weight;
+  const Eigen::Vector2d u = p.cross_rank_weight > 1.0 ? coastingHeading(h, p) : Eigen::Vector2d::Zero();
+  if (u.isZero()) return r.norm();
+  const Eigen::Vector2d ac = alongCross(r, u);
+  const double along = ac.x(), cross = p.cross_rank_weight * ac.y();
   return std::sqrt(along * along + cross * cross);
 }
 

@@ -263,8 +263,8 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
         for (int i : mine) c += frame_points_[i].head<2>().cast<double>();
         c /= static_cast<double>(mine.size());
         if ((c - tracks_[j].kf.state().head<2>()).norm() > params_.reassociation.max_shift) continue;
-        // Nor a neighbour on the next line (see passesCrossGate), judged by the centre the
-        // measurement will have.
+        // Nor a neighbour on the next line (see passesCrossGate), judged by the view-corrected
+        // centre, as object-level association judges a cluster.
         const Eigen::Vector2d view_c = viewCorrectedCenter(frame_points_, mine, sensor_origin_.head<2>().cast<double>(),
                                                            params_.segmentation.view_center_shift);
         if (!passesCrossGate(view_c, tviews[j], params_.object_association)) continue;
