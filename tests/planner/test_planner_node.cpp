@@ -523,3 +523,39 @@ TEST(PlannerNode, GivenAMoverPassingOldStructureThenOnlyItsYoungGhostIsCleared) 
   EXPECT_FALSE(f.node->map().isOccupied(Eigen::Vector3d(3.0, -0.25, z)));
   EXPECT_EQ(f.report.counter("cleared_under_movers"), 1);
 }
+
+TEST(PlannerNode, GivenANewPlanRejectedWhileThePreviousIsStillSafeThenThePreviousGoesOutAgainStampedNow) {
+  // The base controller stops on a trajectory older than its watchdog (0.2 s): a kept plan
+  // must be re-sent, or two such cycles in a row stop the robot where it stands.
+  Fixture f(false);
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 8.0, 0.0));
+  const auto first = f.node->tick(kT0);
+  ASSERT_TRUE(first.trajectory);
+  ASSERT_EQ(first.trajectory->status, trajectory_t::STATUS_OK);
+  // The pose now says the robot is 3 m off its plan (replans start from the pose), inside a
+  // ring of movers closing in: no plan from there passes the check. The plan itself runs
+  // along y = 0, which none of them reaches within the check horizon: it is still safe.
+  const int64_t t = kT0 + 100000;
+  const auto p = f.node->currentTrajectory().position(t);
+  std::vector<tracked_object_t> ring;
+  for (int k = 0; k < 12; ++k) {
+    const double a = k * 2.0 * M_PI / 12.0;
+    ring.push_back(object(100 + k, p.x() + 1.2 * std::cos(a), 3.0 + 1.2 * std::sin(a), -1.0 * std::cos(a),
+                          -1.0 * std::sin(a)));
+  }
+  f.feed(t, p.x(), 3.0, ring);
+  ASSERT_EQ(f.node->check(*first.trajectory, t).status, trajopt::PlanStatus::kOk);
+  const auto out = f.node->tick(t);
+  ASSERT_TRUE(out.plan);
+  ASSERT_EQ(out.plan->result, PlanResult::kKeptPrevious) << out.plan->message;
+  ASSERT_TRUE(out.trajectory) << "a kept plan must be re-sent";
+  EXPECT_EQ(out.trajectory->plan_id, first.trajectory->plan_id);
+  EXPECT_EQ(out.trajectory->seq, first.trajectory->seq + 1);
+  EXPECT_EQ(out.trajectory->utime, t);
+  EXPECT_EQ(out.trajectory->start_utime, first.trajectory->start_utime);
+  EXPECT_EQ(out.trajectory->coeffs, first.trajectory->coeffs);
+  EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_OK);
+  EXPECT_NE(out.trajectory->message.find("kept previous plan"), std::string::npos) << out.trajectory->message;
+  EXPECT_EQ(f.report.counter("result_kept_previous"), 1);
+}

@@ -446,6 +446,10 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     if (previousStillSafe()) {
       info.result = PlanResult::kKeptPrevious;
       info.message = "rejected: " + why;
+      // The previous plan goes out again, stamped now: the base controller stops on a
+      // trajectory older than its watchdog (0.2 s), and a planner that keeps its plan for two
+      // cycles in a row must not look like a silent one.
+      out.trajectory = resend(now, "kept previous plan; new one " + info.message);
       info.total_ms = msSince(t_start);
       out.plan = info;
       record(info);
@@ -537,6 +541,13 @@ trajectory_t PlannerNode::finish(const trajectory::PiecewisePolynomial& pp, int6
   current_msg_ = msg;
   current_status_ = status;
   return msg;
+}
+
+trajectory_t PlannerNode::resend(int64_t now, const std::string& message) {
+  current_msg_.utime = now;
+  current_msg_.seq = ++seq_;
+  current_msg_.message = message;
+  return current_msg_;  // same plan_id: the controller keeps following the same curve
 }
 
 void PlannerNode::considerFallback(const trajopt::PlanOutput& po) {

@@ -129,6 +129,8 @@ class PlannerNode {
   double firstContact(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const;
   trajectory_t finish(const trajectory::PiecewisePolynomial& pp, int64_t now, int8_t status,
                       const std::string& message);
+  /// The current plan again (same plan_id and curve), stamped `now` with a new seq and this message.
+  trajectory_t resend(int64_t now, const std::string& message);
   void record(const PlanInfo& info);
 
   PlannerParams params_;
