@@ -172,6 +172,52 @@ TEST(Optimizer, GivenATrajectoryThroughAnObstacleThenTheCheckReportsIt) {
   EXPECT_EQ(checkTrajectory(out.trajectory, late, &field, {}, p).status, PlanStatus::kOk);
 }
 
+namespace {
+
+// One quintic piece of `T` seconds from the origin at constant velocity (vx, vy).
+ucon::trajectory_t straightLine(double vx, double vy, double T) {
+  ucon::trajectory_t tr{};
+  tr.start_utime = kStart;
+  tr.dim = 2;
+  tr.order1 = 6;
+  tr.num_pieces = 1;
+  tr.durations = {T};
+  tr.num_coeffs = 12;
+  tr.coeffs.assign(12, 0.0);
+  tr.coeffs[1] = vx;
+  tr.coeffs[6 + 1] = vy;
+  tr.status = ucon::trajectory_t::STATUS_OK;
+  return tr;
+}
+
+}  // namespace
+
+TEST(Optimizer, GivenAStartInsideTheStaticClearanceThenOnlyAPlanLeavingItWithoutComingCloserPassesInTime) {
+  // The robot's centre is 0.2 m from a pillar's surface: closer than robot_radius (0.3 m).
+  const DiscField field({{Eigen::Vector2d(0.0, -0.5), 0.3}});
+  OptimizerParams p;
+  ASSERT_NEAR(field.distance(0.0, 0.0, nullptr), 0.2, 1e-9);
+  ASSERT_DOUBLE_EQ(p.static_escape_s, 1.0);
+  // Away from the pillar, along it: clear of robot_radius after ~0.4 s.
+  EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, &field, {}, p).status, PlanStatus::kOk);
+  EXPECT_EQ(checkTrajectory(straightLine(0.0, 0.5, 2.0), kStart, &field, {}, p).status, PlanStatus::kOk);
+  // Towards it: closer than the start.
+  EXPECT_EQ(checkTrajectory(straightLine(0.0, -0.2, 2.0), kStart, &field, {}, p).status,
+            PlanStatus::kStaticCollision);
+  // Too slowly out: still inside after static_escape_s.
+  EXPECT_EQ(checkTrajectory(straightLine(0.0, 0.05, 3.0), kStart, &field, {}, p).status,
+            PlanStatus::kStaticCollision);
+  // Without the allowance, any plan from here fails (the robot could only brake).
+  p.static_escape_s = 0.0;
+  EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, &field, {}, p).status,
+            PlanStatus::kStaticCollision);
+  // A plan that starts clear gets no allowance: passing as close later fails as before.
+  p.static_escape_s = 1.0;
+  const DiscField ahead({{Eigen::Vector2d(1.0, -0.5), 0.3}});
+  EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, &ahead, {}, p).status,
+            PlanStatus::kStaticCollision);
+}
+
 TEST(Optimizer, GivenYamlThenParamsReadOneToOneAndTyposRejected) {
   const std::string yaml = R"(
 obstacle_model: fapp
@@ -194,6 +240,7 @@ robot_radius: 0.3
 check_step: 0.02
 check_horizon: 2.0
 limit_tolerance: 0.1
+static_escape_s: 1.0
 sector:
   h: 0.02
   k: 2.0

@@ -74,6 +74,7 @@ void OptimizerParams::read(ConfigReader& r) {
   r.read("check_step", check_step, 1e-3, 1.0);
   r.read("check_horizon", check_horizon, 0.0, 60.0);
   r.read("limit_tolerance", limit_tolerance, 0.0, 10.0);
+  r.read("static_escape_s", static_escape_s, 0.0, 60.0);
   ConfigReader s = r.section("sector");
   sector.read(s);
   const std::string bad = validate();
@@ -102,6 +103,7 @@ std::string OptimizerParams::validate() const {
   if (!pos(check_step)) return "check_step";
   if (!nonneg(check_horizon)) return "check_horizon";
   if (!nonneg(limit_tolerance)) return "limit_tolerance";
+  if (!nonneg(static_escape_s)) return "static_escape_s";
   if (!nonneg(sector.h)) return "sector.h";
   if (!nonneg(sector.k)) return "sector.k";
   if (!nonneg(sector.kappa)) return "sector.kappa";
@@ -125,6 +127,10 @@ PredictedObstacle obstacleFromMessage(const tracked_object_t& obj, int64_t utime
 }
 
 namespace {
+
+// How much closer than its start a trajectory leaving the static clearance may come (the
+// distance field is interpolated between 0.1 m cells; a path along a wall wobbles by this).
+constexpr double kEscapeSlack = 0.01;  // [m]
 
 // Evaluates derivative `order` (0..2) of a 2-D, order1 = 6 trajectory message at local time t of piece k.
 Eigen::Vector2d evalPiece(const trajectory_t& tr, int k, double t, int order) {
@@ -176,6 +182,7 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
   const int steps = static_cast<int>(std::ceil((total - t_from) / params.check_step));
   int piece = 0;
   double piece_start = 0.0;
+  double start_clearance = std::numeric_limits<double>::quiet_NaN();
   for (int s = 0; s <= steps; ++s) {
     const double t = std::min(total, t_from + s * params.check_step);
     while (piece + 1 < tr.num_pieces && t > piece_start + tr.durations[piece]) {
@@ -191,7 +198,11 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
     if (field) {
       const double xi = field->distance(p.x(), p.y(), nullptr);
       out.min_static_clearance = std::min(out.min_static_clearance, xi);
-      if (out.status == PlanStatus::kOk && xi < params.robot_radius) {
+      if (s == 0) start_clearance = xi;
+      // Starting inside the clearance: leaving it without coming closer is allowed for a while.
+      const bool escaping =
+          params.static_escape_s > 0.0 && t - t_from <= params.static_escape_s && xi >= start_clearance - kEscapeSlack;
+      if (out.status == PlanStatus::kOk && xi < params.robot_radius && !escaping) {
         out.status = PlanStatus::kStaticCollision;
         out.message = "static clearance " + std::to_string(xi) + " m at t=" + std::to_string(t) + " s";
       }

@@ -72,6 +72,11 @@ struct OptimizerParams {
   double check_step = 0.02;      ///< sampling step of the post-check [s], > 0
   double check_horizon = 2.0;    ///< predicted obstacles are checked this far ahead [s], >= 0
   double limit_tolerance = 0.1;  ///< allowed relative excess of |v| and |a| in the check [-], >= 0
+  /// A trajectory starting closer to static obstacles than robot_radius (the map's cells are
+  /// 0.1 m, and a mover's leaked points can land beside the robot) may stay that close for at
+  /// most this long, never closer than it starts, on its way out [s], >= 0 (0: such a start
+  /// fails the check, and the robot can only brake where it stands).
+  double static_escape_s = 1.0;
   SectorParams sector;           ///< YAML section `sector`
 
   void read(ConfigReader& r);
