@@ -276,6 +276,29 @@ TEST(PlannerNode, GivenObstaclesWithNaNOrNonPDCovarianceThenNaNIsDroppedAndBadCo
   }
 }
 
+TEST(PlannerNode, GivenATrackBoxShrunkByPartialViewsThenItsBodyIsAtLeastMinRadius) {
+  Fixture f(false);
+  ASSERT_DOUBLE_EQ(f.params.objects.min_radius, 0.3);  // deploy/config/planner.yaml
+  f.node->onPose(pose(kT0, 0, 0));
+  auto sliver = object(1, 3.0, 0.0, 0.0, 0.0);  // a few returns of one side: 0.1 x 0.05 m
+  sliver.size_x = 0.1;
+  sliver.size_y = 0.05;
+  auto large = object(2, -3.0, 0.0, 0.0, 0.0);  // 0.8 x 0.6 m: its own half diagonal, 0.5 m
+  large.size_x = 0.8;
+  large.size_y = 0.6;
+  f.node->onObjects(objects(kT0, {sliver, large}));
+  ASSERT_EQ(f.node->obstacles().size(), 2u);
+  EXPECT_DOUBLE_EQ(f.node->obstacles()[0].radius, 0.3);
+  EXPECT_DOUBLE_EQ(f.node->obstacles()[1].radius, 0.5);
+  PlannerParams p = f.params;
+  p.objects.min_radius = 0.0;
+  PlannerNode plain(p, f.report);
+  plain.onPose(pose(kT0, 0, 0));
+  plain.onObjects(objects(kT0, {sliver}));
+  ASSERT_EQ(plain.obstacles().size(), 1u);
+  EXPECT_NEAR(plain.obstacles()[0].radius, 0.5 * std::hypot(0.1, 0.05), 1e-12);
+}
+
 TEST(PlannerNode, GivenStaleObstaclesThenItStops) {
   Fixture f;
   f.feed(kT0);

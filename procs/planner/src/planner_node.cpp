@@ -119,7 +119,7 @@ void PlannerNode::onObjects(const tracked_objects_t& msg) {
     }
     const double diag = std::hypot(o.size_x, o.size_y);
     if (std::isfinite(diag) && diag > 0.0 && diag < 20.0) {
-      ob.radius = 0.5 * diag;
+      ob.radius = std::max(0.5 * diag, op.min_radius);
     } else {
       report_.count("objects_bad_size");
       ob.radius = 0.5;

@@ -19,6 +19,7 @@ void ObjectParams::read(ConfigReader& r) {
   r.read("max_age_s", max_age_s, 0.01, 10.0);
   r.read("max_range", max_range, 0.5, 200.0);
   r.read("include_tentative", include_tentative);
+  r.read("min_radius", min_radius, 0.0, 5.0);
   r.read("clear_under_speed", clear_under_speed, 0.0, 10.0);
   r.read("clear_max_radius", clear_max_radius, 0.0, 5.0);
   r.read("clear_max_age", clear_max_age, 0.0, 60.0);

@@ -29,6 +29,9 @@ struct ObjectParams {
   double max_age_s = 0.5;              ///< objects older than this are not trusted: plan stops [s]
   double max_range = 12.0;             ///< objects farther from the robot are ignored [m]
   bool include_tentative = true;       ///< plan around tentative tracks as well
+  /// Smallest body radius given to a track [m], >= 0: a box shrunk by partial views (one side,
+  /// a few returns) is not the object's size (0 = the box's half diagonal as it is).
+  double min_radius = 0.0;
   /// Confirmed tracks at least this fast clear the static map under their body (movers' points
   /// that leaked into PERCEPTION_STATIC are ghost obstacles) [m/s]; 0 = off.
   double clear_under_speed = 0.0;
