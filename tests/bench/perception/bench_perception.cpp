@@ -231,8 +231,9 @@ int main(int argc, char** argv) {
               const double dd = std::hypot(d.box.center.x() - gx, d.box.center.y() - gy);
               if (dd < bd) bd = dd, best = &d;
             }
-            std::fprintf(trace, "%s fn %.2f gt %lld at %.2f %.2f", m.name.c_str(), sim.simTime(),
-                         static_cast<long long>(id), gx, gy);
+            std::fprintf(trace, "%s fn %.2f gt %lld at %.2f %.2f range %.2f", m.name.c_str(), sim.simTime(),
+                         static_cast<long long>(id), gx, gy,
+                         std::hypot(gx - g->second.robot_x, gy - g->second.robot_y));
             if (best)
               std::fprintf(trace, " det %.2f m pts %zu size %.2f %.2f z %.2f-%.2f ok %d moving %d supp %d",
                            bd, best->indices.size(), best->box.size.x(), best->box.size.y(), best->min_z,
