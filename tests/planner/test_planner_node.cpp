@@ -473,6 +473,26 @@ TEST(PlannerNode, GivenNothingPassesTheCheckButARejectedPlanReachesTheMoversLate
   EXPECT_GE(minMapDistance(*f.node, f.node->currentTrajectory()), f.params.optimizer.robot_radius);
 }
 
+TEST(PlannerNode, GivenNothingPassesTheCheckWhenBrakingThenItStopsAtTheFullAccelerationLimitAlongItsPath) {
+  const OneCycle brake(-1.0, caughtBetween());  // driving along +x at 1 m/s, nothing passes
+  ASSERT_TRUE(brake.out.trajectory);
+  ASSERT_EQ(brake.out.trajectory->status, trajectory_t::STATUS_STOP);
+  const auto& pp = brake.f.node->currentTrajectory();
+  const double amax = brake.f.params.optimizer.max_acceleration;
+  // v^2 / (2 a): 0.25 m at 1 m/s and 2 m/s^2 (a minimum-jerk stop needs twice that).
+  const auto end = pp.sampleRelative(pp.duration());
+  EXPECT_NEAR(end.position.x(), 1.0 * 1.0 / (2.0 * amax), 1e-9);
+  EXPECT_NEAR(end.position.y(), 0.0, 1e-12);
+  EXPECT_LT(end.velocity.norm(), 1e-12);
+  EXPECT_NEAR(pp.sampleRelative(0.5 / amax).velocity.x(), 0.5, 1e-9);  // half speed halfway
+  for (double t = 0.0; t <= pp.duration(); t += 0.01) {
+    const auto s = pp.sampleRelative(t);
+    EXPECT_LE(s.acceleration.norm(), amax + 1e-9);
+    EXPECT_GE(s.velocity.x(), -1e-12);  // never backs up
+  }
+  EXPECT_GE(pp.duration(), 0.5 + 1.0 / amax - 1e-9);  // then held at rest
+}
+
 namespace {
 /// A PERCEPTION_STATIC frame: a ring of points of `radius` around each centre, at height z.
 ucon::static_points_t ringsAt(int64_t utime, const std::vector<Eigen::Vector2d>& centres, double radius, double z) {

@@ -602,36 +602,41 @@ trajectory_t PlannerNode::stopTrajectory(int64_t now, int8_t status, const std::
 
 bool PlannerNode::stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* out) const {
   // From the state the robot is expected to be in at now + latency: the current plan if any,
-  // else the pose. A single quintic to rest, braking at about half the acceleration limit.
+  // else the pose.
   const int64_t t0 = now + int64_t(params_.latency_s * kUsPerS);
-  Eigen::Vector2d p, v = Eigen::Vector2d::Zero(), a = Eigen::Vector2d::Zero();
+  Eigen::Vector2d p, v = Eigen::Vector2d::Zero();
   bool have = false;
   if (current_.valid()) {
     const auto s = current_.sample(t0);
     p = s.position.head<2>();
     v = s.velocity.head<2>();
-    a = s.acceleration.head<2>();
     have = true;
     if (pose_ && (p - Eigen::Vector2d(pose_->x, pose_->y)).norm() > params_.replan_deviation) {
       p = Eigen::Vector2d(pose_->x, pose_->y);
       v = Eigen::Vector2d(pose_->vx, pose_->vy);
-      a.setZero();
     }
   } else if (pose_) {
     p = Eigen::Vector2d(pose_->x, pose_->y);
     v = Eigen::Vector2d(pose_->vx, pose_->vy);
     have = true;
   }
-  if (!have || !p.allFinite() || !v.allFinite() || !a.allFinite()) return false;
+  if (!have || !p.allFinite() || !v.allFinite()) return false;
+  // Straight to rest at the full acceleration limit, along the current velocity (half the
+  // distance of a smooth minimum-jerk stop, whose peak deceleration would be the limit), then
+  // held for half a second. The step in acceleration is the base controller's to smooth.
   const double speed = v.norm();
-  const double T = std::max(0.5, 2.0 * speed / params_.optimizer.max_acceleration);
-  const Eigen::Vector2d p_end = p + v * (0.5 * T);
-  std::vector<double> coeffs;
-  for (int d = 0; d < 2; ++d) {
-    const auto c = trajectory::quinticHermiteCoefficients(p(d), v(d), a(d), p_end(d), 0.0, 0.0, T);
-    coeffs.insert(coeffs.end(), c.begin(), c.end());
+  const double amax = params_.optimizer.max_acceleration;
+  const double Tb = speed / amax;  // braking time
+  const Eigen::Vector2d rest = p + v * (0.5 * Tb);
+  std::vector<double> durations, coeffs;
+  if (Tb > 1e-3) {
+    const Eigen::Vector2d decel = v * (amax / speed);
+    durations.push_back(Tb);
+    for (int d = 0; d < 2; ++d) coeffs.insert(coeffs.end(), {p(d), v(d), -0.5 * decel(d), 0.0, 0.0, 0.0});
   }
-  return trajectory::PiecewisePolynomial::create(t0, 2, 6, {T}, coeffs, out) == trajectory::TrajectoryStatus::kOk;
+  durations.push_back(0.5);
+  for (int d = 0; d < 2; ++d) coeffs.insert(coeffs.end(), {Tb > 1e-3 ? rest(d) : p(d), 0.0, 0.0, 0.0, 0.0, 0.0});
+  return trajectory::PiecewisePolynomial::create(t0, 2, 6, durations, coeffs, out) == trajectory::TrajectoryStatus::kOk;
 }
 
 void PlannerNode::record(const PlanInfo& info) {
