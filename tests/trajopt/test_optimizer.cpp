@@ -211,10 +211,14 @@ TEST(Optimizer, GivenAStartInsideTheStaticClearanceThenOnlyAPlanLeavingItWithout
   p.static_escape_s = 0.0;
   EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, &field, {}, p).status,
             PlanStatus::kStaticCollision);
-  // A plan that starts clear gets no allowance: passing as close later fails as before.
+  // A plan that starts clear gets no allowance: passing as close later fails as before, and so
+  // does creeping just inside the clearance from just outside it.
   p.static_escape_s = 1.0;
   const DiscField ahead({{Eigen::Vector2d(1.0, -0.5), 0.3}});
   EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, &ahead, {}, p).status,
+            PlanStatus::kStaticCollision);
+  const DiscField edge({{Eigen::Vector2d(0.0, -0.605), 0.3}});  // 0.305 m: just clear
+  EXPECT_EQ(checkTrajectory(straightLine(0.0, -0.01, 1.0), kStart, &edge, {}, p).status,
             PlanStatus::kStaticCollision);
 }
 

@@ -200,8 +200,8 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
       out.min_static_clearance = std::min(out.min_static_clearance, xi);
       if (s == 0) start_clearance = xi;
       // Starting inside the clearance: leaving it without coming closer is allowed for a while.
-      const bool escaping =
-          params.static_escape_s > 0.0 && t - t_from <= params.static_escape_s && xi >= start_clearance - kEscapeSlack;
+      const bool escaping = params.static_escape_s > 0.0 && start_clearance < params.robot_radius &&
+                            t - t_from <= params.static_escape_s && xi >= start_clearance - kEscapeSlack;
       if (out.status == PlanStatus::kOk && xi < params.robot_radius && !escaping) {
         out.status = PlanStatus::kStaticCollision;
         out.message = "static clearance " + std::to_string(xi) + " m at t=" + std::to_string(t) + " s";
