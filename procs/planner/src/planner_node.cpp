@@ -627,15 +627,16 @@ bool PlannerNode::stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* o
   const double speed = v.norm();
   const double amax = params_.optimizer.max_acceleration;
   const double Tb = speed / amax;  // braking time
-  const Eigen::Vector2d rest = p + v * (0.5 * Tb);
   std::vector<double> durations, coeffs;
+  Eigen::Vector2d rest = p;
   if (Tb > 1e-3) {
     const Eigen::Vector2d decel = v * (amax / speed);
     durations.push_back(Tb);
     for (int d = 0; d < 2; ++d) coeffs.insert(coeffs.end(), {p(d), v(d), -0.5 * decel(d), 0.0, 0.0, 0.0});
+    rest += v * (0.5 * Tb);
   }
   durations.push_back(0.5);
-  for (int d = 0; d < 2; ++d) coeffs.insert(coeffs.end(), {Tb > 1e-3 ? rest(d) : p(d), 0.0, 0.0, 0.0, 0.0, 0.0});
+  for (int d = 0; d < 2; ++d) coeffs.insert(coeffs.end(), {rest(d), 0.0, 0.0, 0.0, 0.0, 0.0});
   return trajectory::PiecewisePolynomial::create(t0, 2, 6, durations, coeffs, out) == trajectory::TrajectoryStatus::kOk;
 }
 
