@@ -128,8 +128,13 @@ class TimedAdapter : public rp::NodeAdapter {
 /// static map that movers never pollute.
 class OracleObjectsAdapter : public rp::NodeAdapter {
  public:
-  OracleObjectsAdapter(rp::NodeAdapter* inner, double range, bool replace_objects, bool clean_static)
-      : inner_(inner), range_(range), replace_objects_(replace_objects), clean_static_(clean_static) {}
+  OracleObjectsAdapter(rp::NodeAdapter* inner, double range, bool replace_objects, bool clean_static,
+                       bool true_velocity)
+      : inner_(inner),
+        range_(range),
+        replace_objects_(replace_objects),
+        clean_static_(clean_static),
+        true_velocity_(true_velocity) {}
   std::string name() const override { return inner_->name(); }
   std::vector<std::string> inputChannels() const override {
     auto v = inner_->inputChannels();
@@ -149,6 +154,21 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
                    out->end());
       for (std::size_t i = before; i < out->size(); ++i) {
         auto& m = (*out)[i];
+        if (true_velocity_ && m.channel == ucon::channels::kPerceptionObjects) {
+          ucon::tracked_objects_t o;
+          if (!rp::decodeExact(m.data.data(), m.data.size(), &o)) continue;
+          for (auto& t : o.objects) {
+            const ucon::sim_object_t* best = nullptr;
+            double best_d = 0.8;
+            for (const auto& g : last_gt_.objects) {
+              const double d = std::hypot(g.x - t.x, g.y - t.y);
+              if (d < best_d) best_d = d, best = &g;
+            }
+            if (best != nullptr) t.vx = best->vx, t.vy = best->vy;
+          }
+          m = rp::encodeOutput(ucon::channels::kPerceptionObjects, o);
+          continue;
+        }
         if (m.channel != ucon::channels::kPerceptionStatic || last_gt_.objects.empty()) continue;
         ucon::static_points_t s;
         if (!rp::decodeExact(m.data.data(), m.data.size(), &s)) continue;
@@ -236,7 +256,7 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
  private:
   rp::NodeAdapter* inner_;
   double range_;
-  bool replace_objects_, clean_static_;
+  bool replace_objects_, clean_static_, true_velocity_;
  public:
   int64_t leaked_points_ = 0, static_points_ = 0;
 
@@ -486,7 +506,7 @@ struct RunResult {
 };
 
 struct Oracle {
-  bool objects = false, static_map = false;
+  bool objects = false, static_map = false, velocity = false;
 };
 
 /// How the nodes share the machine: pipelined (perception and planner on threads of their
@@ -538,7 +558,8 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     rp::NodeAdapter* node = timed.back().get();
     if (n.stage == 1) {
       // Outside the timing: the probe's own work is not perception's latency.
-      auto w = std::make_unique<OracleObjectsAdapter>(node, 12.0, oracle.objects, oracle.static_map);
+      auto w = std::make_unique<OracleObjectsAdapter>(node, 12.0, oracle.objects, oracle.static_map,
+                                                      oracle.velocity);
       perception_wrap = w.get();
       node = w.get();
       owned.push_back(std::move(w));
@@ -665,6 +686,8 @@ int main(int argc, char** argv) {
   app.add_flag("--verbose", verbose, "one line per run as it ends");
   app.add_flag("--oracle-objects", oracle.objects,
                "diagnosis: the planner gets the ground-truth movers within 12 m instead of perception's tracks");
+  app.add_flag("--oracle-velocity", oracle.velocity,
+               "diagnosis: perception's tracks, each with the velocity of the ground-truth mover within 0.8 m");
   app.add_flag("--oracle-static", oracle.static_map,
                "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
   app.add_flag("--serial", pipeline.serial,

@@ -42,6 +42,10 @@ struct MethodResult {
   int64_t frames = 0;
   int64_t invalid_frames = 0;
   int64_t reassociations = 0;
+  double velocity_error_median = NAN;  ///< matches within 8 m of the robot [m/s]
+  double velocity_error_p90 = NAN;
+  double velocity_error_over = NAN;    ///< share of those matches off by more than 0.5 m/s
+  double velocity_error_over_2sigma = NAN;  ///< share off by more than twice the track's own velocity std
 };
 
 struct Method {
@@ -52,6 +56,8 @@ struct Method {
   int64_t frames = 0, invalid = 0;
   double points = 0.0;
   std::map<int64_t, int64_t> last_match;  ///< trace: ground-truth id -> last matched track id
+  std::vector<double> velocity_error;     ///< |v_track - v_true| of matches within 8 m of the robot [m/s]
+  int64_t velocity_over_2sigma = 0;       ///< ... of those, off by more than twice the reported std
 };
 
 template <class P>
@@ -102,7 +108,7 @@ int main(int argc, char** argv) {
   app.add_option("--min-visible-points", min_visible,
                  "a ground-truth object with fewer LiDAR returns in a frame is not scored")
       ->check(CLI::Range(1, 1000));
-  app.add_option("--trace", trace_path, "write every FP, FN and identity switch to this text file");
+  app.add_option("--trace", trace_path, "write every FP, FN, identity switch and velocity error above 0.5 m/s to this text file");
   CLI11_PARSE(app, argc, argv);
   FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
   if (quick) {
@@ -192,6 +198,27 @@ int main(int argc, char** argv) {
         for (std::size_t k = 0; k < gt_now.size(); ++k) hidden[k] = (all_gt || hits[gt_now[k].id] >= min_visible) ? 0 : 1;
         const auto ev = m.acc.updateXY(gt_now, ucon::mot::hypothesesOf(*o.objects, eval), eval.threshold_m,
                                        &hidden);
+        // Velocity error of the matches near the robot (what the planner acts on).
+        for (const auto& mt : ev.matches) {
+          const ucon::sim_object_t* go = nullptr;
+          for (const auto& q : g->second.objects)
+            if (q.id == mt.first) go = &q;
+          if (go == nullptr || std::hypot(go->x - g->second.robot_x, go->y - g->second.robot_y) > 8.0) continue;
+          for (const auto& t : o.objects->objects) {
+            if (t.id != mt.second) continue;
+            const double e = std::hypot(t.vx - go->vx, t.vy - go->vy);
+            m.velocity_error.push_back(e);
+            // The track's own velocity std (mean of the x and y variances): is the error it
+            // reports to the planner the error it has?
+            const double sv = t.cov.size() == 36 ? std::sqrt(0.5 * (t.cov[21] + t.cov[28])) : NAN;
+            if (!(e <= 2.0 * sv)) ++m.velocity_over_2sigma;
+            if (trace && e > 0.5)
+              std::fprintf(trace, "%s dv %.2f gt %lld track %lld err %.2f v %.2f %.2f true %.2f %.2f age %d assoc %d pts %d st %d off %.2f sv %.2f\n",
+                           m.name.c_str(), sim.simTime(), static_cast<long long>(mt.first),
+                           static_cast<long long>(mt.second), e, t.vx, t.vy, go->vx, go->vy, t.age_frames,
+                           t.last_association, t.num_points, int(t.state), std::hypot(t.x - go->x, t.y - go->y), sv);
+          }
+        }
         if (trace) {
           // One state line per frame: every scored ground-truth object and every published track.
           std::fprintf(trace, "%s frame %.2f", m.name.c_str(), sim.simTime());
@@ -276,6 +303,15 @@ int main(int argc, char** argv) {
       r.frames = m.frames;
       r.invalid_frames = m.invalid;
       r.reassociations = m.node->status().counter("reassociations");
+      if (!m.velocity_error.empty()) {
+        r.velocity_error_median = percentile(m.velocity_error, 0.5);
+        r.velocity_error_p90 = percentile(m.velocity_error, 0.9);
+        r.velocity_error_over =
+            std::count_if(m.velocity_error.begin(), m.velocity_error.end(), [](double e) { return e > 0.5; }) /
+            static_cast<double>(m.velocity_error.size());
+        r.velocity_error_over_2sigma =
+            static_cast<double>(m.velocity_over_2sigma) / static_cast<double>(m.velocity_error.size());
+      }
       results.push_back(r);
       {
         // Per-stage medians of the node's own timings (PERCEPTION_STATUS), for the record.
@@ -301,13 +337,16 @@ int main(int argc, char** argv) {
               scenario.c_str(), frame_rate, seeds, static_cast<long long>(seed_base), threshold,
               all_gt ? "every ground-truth object scored"
                      : ("objects with < " + std::to_string(min_visible) + " LiDAR returns not scored").c_str());
-  std::printf("%-6s %5s %8s %6s %8s %8s %9s %8s %8s %10s %8s %7s\n", "method", "seed", "MOTA%", "IDSW",
-              "FN%", "FP%", "mismatch%", "MOTP_m", "lat_med", "lat_p99_ms", "pts/frm", "reassoc");
+  std::printf("%-6s %5s %8s %6s %8s %8s %9s %8s %8s %10s %8s %7s %8s %8s %7s %8s\n", "method", "seed", "MOTA%",
+              "IDSW", "FN%", "FP%", "mismatch%", "MOTP_m", "lat_med", "lat_p99_ms", "pts/frm", "reassoc", "dv_med",
+              "dv_p90", "dv>0.5%", "dv>2sd%");
   for (const auto& r : results) {
-    std::printf("%-6s %5lld %8.2f %6lld %8.2f %8.2f %9.3f %8.3f %8.3f %10.3f %8.0f %7lld\n", r.method.c_str(),
-                static_cast<long long>(r.seed), 100 * r.mot.mota, static_cast<long long>(r.mot.num_switches),
-                100 * r.mot.fn_rate, 100 * r.mot.fp_rate, 100 * r.mot.mismatch_rate, r.mot.motp,
-                r.latency_median_ms, r.latency_p99_ms, r.points_per_frame, static_cast<long long>(r.reassociations));
+    std::printf("%-6s %5lld %8.2f %6lld %8.2f %8.2f %9.3f %8.3f %8.3f %10.3f %8.0f %7lld %8.3f %8.3f %7.1f %8.1f\n",
+                r.method.c_str(), static_cast<long long>(r.seed), 100 * r.mot.mota,
+                static_cast<long long>(r.mot.num_switches), 100 * r.mot.fn_rate, 100 * r.mot.fp_rate,
+                100 * r.mot.mismatch_rate, r.mot.motp, r.latency_median_ms, r.latency_p99_ms, r.points_per_frame,
+                static_cast<long long>(r.reassociations), r.velocity_error_median, r.velocity_error_p90,
+                100 * r.velocity_error_over, 100 * r.velocity_error_over_2sigma);
   }
   // Medians over seeds per method.
   bool targets_met = true;
@@ -316,16 +355,20 @@ int main(int argc, char** argv) {
   std::printf("\nmedian over seeds:\n");
   std::map<std::string, std::pair<double, double>> med;  // mota, idsw
   for (auto& [m, rs] : by) {
-    std::vector<double> mota, idsw, lat, p99;
+    std::vector<double> mota, idsw, lat, p99, dv, dv90;
     for (auto* r : rs) {
+      dv.push_back(r->velocity_error_median);
+      dv90.push_back(r->velocity_error_p90);
       mota.push_back(r->mot.mota);
       idsw.push_back(static_cast<double>(r->mot.num_switches));
       lat.push_back(r->latency_median_ms);
       p99.push_back(r->latency_p99_ms);
     }
     med[m] = {percentile(mota, 0.5), percentile(idsw, 0.5)};
-    std::printf("  %-5s MOTA %.2f %%  IDSW %.1f  latency median %.3f ms  p99 %.3f ms\n", m.c_str(),
-                100 * med[m].first, med[m].second, percentile(lat, 0.5), percentile(p99, 0.5));
+    std::printf("  %-5s MOTA %.2f %%  IDSW %.1f  latency median %.3f ms  p99 %.3f ms  velocity error within 8 m "
+                "median %.3f m/s  p90 %.3f m/s\n",
+                m.c_str(), 100 * med[m].first, med[m].second, percentile(lat, 0.5), percentile(p99, 0.5),
+                percentile(dv, 0.5), percentile(dv90, 0.5));
   }
   if (!quick) {
     const double scale = duration > 0.0 ? duration / 243.0 : 1.0;
@@ -358,7 +401,11 @@ int main(int argc, char** argv) {
          << ", \"invalid_frames\": " << r.invalid_frames << ", \"reassociations\": " << r.reassociations
          << ", \"latency_ms_median\": " << num(r.latency_median_ms)
          << ", \"latency_ms_p99\": " << num(r.latency_p99_ms)
-         << ", \"points_per_frame\": " << num(r.points_per_frame) << "}";
+         << ", \"points_per_frame\": " << num(r.points_per_frame)
+         << ", \"velocity_error_median\": " << num(r.velocity_error_median)
+         << ", \"velocity_error_p90\": " << num(r.velocity_error_p90)
+         << ", \"velocity_error_over_0_5\": " << num(r.velocity_error_over)
+         << ", \"velocity_error_over_2sigma\": " << num(r.velocity_error_over_2sigma) << "}";
     }
     js << "]}\n";
     if (!js) {
