@@ -296,6 +296,7 @@ class MissionAdapter : public rp::NodeAdapter {
       ucon::trajectory_t t;
       if (!rp::decodeExact(data, size, &t)) return rp::FeedResult::kDecodeError;
       if (!collided_) last_plan_ = "plan status " + std::to_string(int(t.status)) + (t.message.empty() ? "" : " (" + t.message + ")");
+      tallyPlan(t.message);
       return rp::FeedResult::kHandled;
     }
     if (channel == ucon::channels::kRobotPose) {
@@ -402,6 +403,32 @@ class MissionAdapter : public rp::NodeAdapter {
   double verr2_sum_ = 0.0, vvar_sum_ = 0.0;
 
  private:
+  /// Trajectories published other than as a plain new plan, by what the planner did and why
+  /// (its message): kept the previous plan / stopped because the new one failed its check on
+  /// the limits, a mover or a static obstacle; followed a least-bad plan; took an evasive detour.
+  std::map<std::string, int64_t> plan_tally_;
+  void tallyPlan(const std::string& msg) {
+    const char* what = msg.rfind("kept previous plan", 0) == 0     ? "kept"
+                       : msg.rfind("no feasible trajectory", 0) == 0 ? "stop"
+                       : msg.rfind("least bad", 0) == 0              ? "least_bad"
+                       : msg.rfind("evasive detour", 0) == 0         ? "evasive"
+                                                                     : nullptr;
+    if (what == nullptr) return;
+    std::string key = what;
+    if (key == "kept" || key == "stop") {
+      for (const char* why : {"limit_violation", "dynamic_collision", "static_collision"})
+        if (msg.find(why) != std::string::npos) {
+          key += std::string("_") + why;
+          break;
+        }
+    }
+    ++plan_tally_[key];
+  }
+
+ public:
+  const std::map<std::string, int64_t>& planTally() const { return plan_tally_; }
+
+ private:
   std::string collision_with_;
   ucon::tracked_objects_t last_objects_;
   std::string last_plan_;
@@ -481,6 +508,7 @@ struct RunResult {
   double min_clearance = NAN;
   std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
   bool hit_mover = false;
+  std::string plan_tally;  ///< " fallbacks k=n ..." (MissionAdapter::planTally), empty if none
   double robot_speed_at_hit = NAN;
   double dist_start_goal = 0.0, dist_left = 0.0;
   std::map<std::string, int64_t> messages;
@@ -620,6 +648,8 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   res.cpu_s = ucon::threadCpuSeconds() - cpu0 + s.worker_cpu_s;
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
+  for (const auto& [k, n] : mission.planTally())
+    res.plan_tally += (res.plan_tally.empty() ? " fallbacks " : " ") + k + "=" + std::to_string(n);
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
   res.ok = true;
   res.sim_s = s.sim_time_s;
@@ -767,7 +797,7 @@ int main(int argc, char** argv) {
           std::printf("N_d=%3d seed=%4llu ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed, r.error.c_str());
         } else {
           std::printf("N_d=%3d seed=%4llu %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
-                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s\n",
+                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s%s\n",
                       r.n_dynamic, (unsigned long long)r.seed,
                       r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
                       r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
@@ -775,7 +805,7 @@ int main(int argc, char** argv) {
                       (long long)(r.messages.count(ucon::channels::kPlannerTrajectory) ? r.messages.at(ucon::channels::kPlannerTrajectory) : 0),
                       r.sim_s > 0 ? r.leaked_static / r.sim_s : NAN, r.recall, r.velocity_error, percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
                       percentile(r.stages[2].samples_ms, 0.5), percentile(r.stages[3].samples_ms, 0.5),
-                      r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, r.collision ? " | hit " : "",
+                      r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, r.plan_tally.c_str(), r.collision ? " | hit " : "",
                       r.collision ? (r.collision_with + " at robot speed " + num(r.robot_speed_at_hit) + " m/s").c_str() : "");
         }
         std::fflush(stdout);
