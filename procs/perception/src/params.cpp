@@ -99,6 +99,7 @@ void TrackParams::read(ConfigReader& r) {
   r.read("free_margin", free_margin, 0.0, 10.0);
   r.read("free_frames", free_frames, 1, 1000);
   r.read("velocity_baseline", velocity_baseline, 0.001, 10.0);
+  r.read("registration_velocity", registration_velocity);
   r.read("size_smoothing", size_smoothing, 0.01, 1.0);
 }
 

@@ -7,6 +7,7 @@
 
 #include "ucon/fast_atan2.hpp"
 #include "ucon/perception/footprint.hpp"
+#include "ucon/perception/registration.hpp"
 #include "ucon/perception/reassociation.hpp"
 #include "ucon/tracked_object_t.hpp"
 
@@ -41,6 +42,10 @@ int binOf(const Angles& a, double bin_deg, int n_az, int n_el) {
   return i * n_el + j;
 }
 
+/// Points kept per measurement for the registration velocity: the alignment costs
+/// O(iterations * n^2) per track and frame.
+constexpr int kRegistrationPoints = 40;
+
 Points thin(const Points& pts, int max_points) {
   if (static_cast<int>(pts.size()) <= max_points) return pts;
   Points out;
@@ -71,7 +76,7 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
                         "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
-                        "views_anchored"})
+                        "views_anchored", "velocity_registered"})
     status_.count(c, 0);
 }
 
@@ -319,6 +324,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     tr.first_center = m.box.center;
     tr.history = thin(m.points, params_.reassociation.max_history_points);
     tr.measured.emplace_back(utime, m.center);
+    tr.measured_points.push_back(thin(m.points, kRegistrationPoints));
     tr.last_seen_utime = utime;
     tr.hits = 1;
     tr.moving_hits = 1;
@@ -714,13 +720,25 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
   const int64_t baseline_us = static_cast<int64_t>(p.velocity_baseline * 1e6);
   // Differenced velocity against the newest measurement at least one baseline old (or the
   // oldest one kept): a longer baseline than one frame keeps the centroid noise down.
-  const std::pair<int64_t, Eigen::Vector3d>* ref = nullptr;
-  for (const auto& e : t.measured) {
-    if (utime - e.first >= baseline_us || ref == nullptr) ref = &e;
-  }
+  std::size_t ref = t.measured.size();
+  for (std::size_t k = 0; k < t.measured.size(); ++k)
+    if (utime - t.measured[k].first >= baseline_us || ref == t.measured.size()) ref = k;
+  Points points = thin(m.points, kRegistrationPoints);
   kalman::KalmanStatus st;
-  if (ref && utime > ref->first) {
-    const Eigen::Vector3d v = (m.center - ref->second) / seconds(utime - ref->first);
+  if (ref < t.measured.size() && utime > t.measured[ref].first) {
+    const double dt = seconds(utime - t.measured[ref].first);
+    Eigen::Vector3d v = (m.center - t.measured[ref].second) / dt;
+    if (p.registration_velocity && ref < t.measured_points.size() && !m.occluded && !m.cut) {
+      // The shared surface's displacement, from where the filter expects it (or, with no
+      // velocity yet, from the centres' difference).
+      const Eigen::Vector2d guess = t.measured.size() >= 2 ? Eigen::Vector2d(t.kf.state().segment<2>(3) * dt)
+                                                            : Eigen::Vector2d(v.head<2>() * dt);
+      Eigen::Vector2d d;
+      if (registerTranslation(t.measured_points[ref], points, guess, RegistrationParams{}, &d)) {
+        v.head<2>() = d / dt;
+        status_.count("velocity_registered");
+      }
+    }
     st = t.kf.update(m.center, v);
   } else {
     st = t.kf.updatePosition(m.center);
@@ -730,7 +748,11 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
     t.kf.init(m.center, Eigen::Vector3d::Zero());
   }
   t.measured.emplace_back(utime, m.center);
-  while (t.measured.size() > 2 && utime - t.measured[1].first >= baseline_us) t.measured.pop_front();
+  t.measured_points.push_back(std::move(points));
+  while (t.measured.size() > 2 && utime - t.measured[1].first >= baseline_us) {
+    t.measured.pop_front();
+    t.measured_points.pop_front();
+  }
   if (m.cut) status_.count("views_anchored");
   if (!m.occluded) {  // the width and box of a view cut by an occluder are not the object's
     t.size = (1.0 - p.size_smoothing) * t.size + p.size_smoothing * m.box.size;

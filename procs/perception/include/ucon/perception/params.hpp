@@ -108,6 +108,7 @@ struct TrackParams {
   double free_margin = 0.5;         ///< a track is seen through when the nearest return in its bin is this far behind it [m]
   int free_frames = 3;              ///< an unseen track seen through this many frames in a row is deleted, >= 1
   double velocity_baseline = 0.2;   ///< velocity measurement differences positions this far apart [s], > 0
+  bool registration_velocity = true;  ///< the x-y displacement over that baseline aligns the two views' points (registration.hpp) instead of differencing their centres
   double size_smoothing = 0.3;      ///< weight of a new box size in the track's size, (0, 1]
   void read(ConfigReader& r);
 };

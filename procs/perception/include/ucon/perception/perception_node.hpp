@@ -114,6 +114,7 @@ class PerceptionNode {
     Eigen::Vector2d first_center = Eigen::Vector2d::Zero();  ///< where it was first measured [m]
     Points history;               ///< T_c: the latest measurement's points (thinned)
     std::deque<std::pair<int64_t, Eigen::Vector3d>> measured;  ///< (utime, centre) for differenced velocity
+    std::deque<Points> measured_points;  ///< each of those measurements' points, thinned (registration)
     explicit Track(const kalman::KalmanParams& p) : kf(p) {}
   };
   /// Motion-test history: consecutive frames merged into chunks of ~history_chunk seconds,
