@@ -324,7 +324,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     tr.first_center = m.box.center;
     tr.history = thin(m.points, params_.reassociation.max_history_points);
     tr.measured.emplace_back(utime, m.center);
-    tr.measured_points.push_back(thin(m.points, kRegistrationPoints));
+    tr.measured_points.push_back(params_.tracks.registration_velocity ? thin(m.points, kRegistrationPoints) : Points{});
     tr.last_seen_utime = utime;
     tr.hits = 1;
     tr.moving_hits = 1;
@@ -723,7 +723,7 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
   std::size_t ref = t.measured.size();
   for (std::size_t k = 0; k < t.measured.size(); ++k)
     if (utime - t.measured[k].first >= baseline_us || ref == t.measured.size()) ref = k;
-  Points points = thin(m.points, kRegistrationPoints);
+  Points points = p.registration_velocity ? thin(m.points, kRegistrationPoints) : Points{};
   kalman::KalmanStatus st;
   if (ref < t.measured.size() && utime > t.measured[ref].first) {
     const double dt = seconds(utime - t.measured[ref].first);

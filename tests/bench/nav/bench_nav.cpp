@@ -123,9 +123,10 @@ class TimedAdapter : public rp::NodeAdapter {
 /// Diagnosis: wraps (timed) perception. Always counts PERCEPTION_STATIC points that lie on a
 /// mover's body (the leak). --oracle-objects drops its PERCEPTION_OBJECTS and publishes the
 /// simulator's ground-truth movers in range instead (exact position and velocity, small fixed
-/// covariance); --oracle-static removes from PERCEPTION_STATIC every point within 0.25 m of a
-/// mover's body. Runs then show what planning and control do with perfect tracking and/or a
-/// static map that movers never pollute.
+/// covariance); --oracle-velocity keeps perception's tracks but gives each the velocity of the
+/// ground-truth mover within 0.8 m of it; --oracle-static removes from PERCEPTION_STATIC every
+/// point within 0.25 m of a mover's body. Runs then show what planning and control do with
+/// perfect tracking (or perfect velocities) and/or a static map that movers never pollute.
 class OracleObjectsAdapter : public rp::NodeAdapter {
  public:
   OracleObjectsAdapter(rp::NodeAdapter* inner, double range, bool replace_objects, bool clean_static,

@@ -26,7 +26,8 @@ struct RegistrationParams {
 
 /// Translation d (x-y) that moves `from` onto `to`, starting from `guess`. Returns false (and
 /// leaves *d alone) when either view has fewer than min_points points, when too few points pair
-/// up, or on non-finite input. O(iterations * |from| * |to|): callers thin the views.
+/// up at the last iteration, or when `guess` is not finite; a non-finite point pairs with
+/// nothing. O(iterations * |from| * |to|): callers thin the views.
 bool registerTranslation(const Points& from, const Points& to, const Eigen::Vector2d& guess,
                          const RegistrationParams& params, Eigen::Vector2d* d);
 
