@@ -323,8 +323,8 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     tr.size_z = m.size_z;
     tr.first_center = m.box.center;
     tr.history = thin(m.points, params_.reassociation.max_history_points);
-    tr.measured.emplace_back(utime, m.center);
-    tr.measured_points.push_back(params_.tracks.registration_velocity ? thin(m.points, kRegistrationPoints) : Points{});
+    tr.measured.push_back(
+        {utime, m.center, params_.tracks.registration_velocity ? thin(m.points, kRegistrationPoints) : Points{}});
     tr.last_seen_utime = utime;
     tr.hits = 1;
     tr.moving_hits = 1;
@@ -583,7 +583,7 @@ std::vector<TrackView> PerceptionNode::trackViews(int64_t utime) const {
     t.box.size = tr.size;
     t.velocity = tr.kf.state().segment<2>(3);
     t.has_velocity = tr.measured.size() >= 2;
-    t.last_center = tr.measured.empty() ? t.box.center : tr.measured.back().second.head<2>();
+    t.last_center = tr.measured.empty() ? t.box.center : tr.measured.back().center.head<2>();
     t.since_last = seconds(utime - tr.last_seen_utime);
     t.position_cov = tr.kf.covariance().topLeftCorner<2, 2>();
     t.seen_velocity = tr.seen_velocity;
@@ -720,21 +720,22 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
   const int64_t baseline_us = static_cast<int64_t>(p.velocity_baseline * 1e6);
   // Differenced velocity against the newest measurement at least one baseline old (or the
   // oldest one kept): a longer baseline than one frame keeps the centroid noise down.
-  std::size_t ref = t.measured.size();
-  for (std::size_t k = 0; k < t.measured.size(); ++k)
-    if (utime - t.measured[k].first >= baseline_us || ref == t.measured.size()) ref = k;
+  const Track::Measured* ref = nullptr;
+  for (const auto& e : t.measured) {
+    if (utime - e.utime >= baseline_us || ref == nullptr) ref = &e;
+  }
   Points points = p.registration_velocity ? thin(m.points, kRegistrationPoints) : Points{};
   kalman::KalmanStatus st;
-  if (ref < t.measured.size() && utime > t.measured[ref].first) {
-    const double dt = seconds(utime - t.measured[ref].first);
-    Eigen::Vector3d v = (m.center - t.measured[ref].second) / dt;
-    if (p.registration_velocity && ref < t.measured_points.size() && !m.occluded && !m.cut) {
+  if (ref && utime > ref->utime) {
+    const double dt = seconds(utime - ref->utime);
+    Eigen::Vector3d v = (m.center - ref->center) / dt;
+    if (p.registration_velocity && !m.occluded && !m.cut) {
       // The shared surface's displacement, from where the filter expects it (or, with no
       // velocity yet, from the centres' difference).
       const Eigen::Vector2d guess = t.measured.size() >= 2 ? Eigen::Vector2d(t.kf.state().segment<2>(3) * dt)
                                                             : Eigen::Vector2d(v.head<2>() * dt);
       Eigen::Vector2d d;
-      if (registerTranslation(t.measured_points[ref], points, guess, RegistrationParams{}, &d)) {
+      if (registerTranslation(ref->points, points, guess, RegistrationParams{}, &d)) {
         v.head<2>() = d / dt;
         status_.count("velocity_registered");
       }
@@ -747,12 +748,8 @@ void PerceptionNode::applyMeasurement(Track& t, const Measurement& m, int64_t ut
     status_.count("kalman_errors");
     t.kf.init(m.center, Eigen::Vector3d::Zero());
   }
-  t.measured.emplace_back(utime, m.center);
-  t.measured_points.push_back(std::move(points));
-  while (t.measured.size() > 2 && utime - t.measured[1].first >= baseline_us) {
-    t.measured.pop_front();
-    t.measured_points.pop_front();
-  }
+  t.measured.push_back({utime, m.center, std::move(points)});
+  while (t.measured.size() > 2 && utime - t.measured[1].utime >= baseline_us) t.measured.pop_front();
   if (m.cut) status_.count("views_anchored");
   if (!m.occluded) {  // the width and box of a view cut by an occluder are not the object's
     t.size = (1.0 - p.size_smoothing) * t.size + p.size_smoothing * m.box.size;
@@ -793,7 +790,7 @@ void PerceptionNode::reidentify(Track& fresh, int64_t utime) {
     if (&tr == &fresh || tr.state != TO::STATE_COASTING || tr.measured.empty()) continue;
     if (tr.last_seen_utime > fresh.created_utime) continue;  // both seen at once: two objects
     const double dt = seconds(fresh.created_utime - tr.last_seen_utime);
-    const Eigen::Vector2d last = tr.measured.back().second.head<2>();
+    const Eigen::Vector2d last = tr.measured.back().center.head<2>();
     if ((first - last).norm() > p.reid_speed * dt + p.reid_margin) continue;
     const double d = score(last, tr.seen_velocity, dt);
     if (!best || d < best_d) best = &tr, best_d = d;
@@ -834,7 +831,7 @@ void PerceptionNode::manageTracks(int64_t utime, const std::vector<char>& update
     ++tr.age_frames;
     if (updated[j]) {
       const double speed = tr.kf.state().segment<2>(3).norm();
-      const double moved = tr.measured.empty() ? 0.0 : (tr.measured.back().second.head<2>() - tr.first_center).norm();
+      const double moved = tr.measured.empty() ? 0.0 : (tr.measured.back().center.head<2>() - tr.first_center).norm();
       if (tr.state == TO::STATE_TENTATIVE && tr.hits >= p.confirm_hits && speed >= p.confirm_min_speed &&
           speed <= p.confirm_max_speed && moved >= p.confirm_min_distance &&
           tr.moving_hits >= p.confirm_moving_hits) {
@@ -898,7 +895,7 @@ void PerceptionNode::manageTracks(int64_t utime, const std::vector<char>& update
   for (const auto& tr : tracks_) {
     if (tr.state != TO::STATE_DELETED || tr.reidentified || tr.confirmed_once == false || tr.measured.empty()) continue;
     lost_tracks_.push_back(
-        {tr.id, tr.age_frames, tr.measured.back().second.head<2>(), tr.seen_velocity, tr.last_seen_utime});
+        {tr.id, tr.age_frames, tr.measured.back().center.head<2>(), tr.seen_velocity, tr.last_seen_utime});
   }
   while (!lost_tracks_.empty() && seconds(utime - lost_tracks_.front().last_seen_utime) > p.reid_window)
     lost_tracks_.pop_front();

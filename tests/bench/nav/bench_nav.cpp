@@ -297,7 +297,6 @@ class MissionAdapter : public rp::NodeAdapter {
       ucon::trajectory_t t;
       if (!rp::decodeExact(data, size, &t)) return rp::FeedResult::kDecodeError;
       if (!collided_) last_plan_ = "plan status " + std::to_string(int(t.status)) + (t.message.empty() ? "" : " (" + t.message + ")");
-      tallyPlan(t.message);
       return rp::FeedResult::kHandled;
     }
     if (channel == ucon::channels::kRobotPose) {
@@ -404,32 +403,6 @@ class MissionAdapter : public rp::NodeAdapter {
   double verr2_sum_ = 0.0, vvar_sum_ = 0.0;
 
  private:
-  /// Trajectories published other than as a plain new plan, by what the planner did and why
-  /// (its message): kept the previous plan / stopped because the new one failed its check on
-  /// the limits, a mover or a static obstacle; followed a least-bad plan; took an evasive detour.
-  std::map<std::string, int64_t> plan_tally_;
-  void tallyPlan(const std::string& msg) {
-    const char* what = msg.rfind("kept previous plan", 0) == 0     ? "kept"
-                       : msg.rfind("no feasible trajectory", 0) == 0 ? "stop"
-                       : msg.rfind("least bad", 0) == 0              ? "least_bad"
-                       : msg.rfind("evasive detour", 0) == 0         ? "evasive"
-                                                                     : nullptr;
-    if (what == nullptr) return;
-    std::string key = what;
-    if (key == "kept" || key == "stop") {
-      for (const char* why : {"limit_violation", "dynamic_collision", "static_collision"})
-        if (msg.find(why) != std::string::npos) {
-          key += std::string("_") + why;
-          break;
-        }
-    }
-    ++plan_tally_[key];
-  }
-
- public:
-  const std::map<std::string, int64_t>& planTally() const { return plan_tally_; }
-
- private:
   std::string collision_with_;
   ucon::tracked_objects_t last_objects_;
   std::string last_plan_;
@@ -509,7 +482,7 @@ struct RunResult {
   double min_clearance = NAN;
   std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
   bool hit_mover = false;
-  std::string plan_tally;  ///< " fallbacks k=n ..." (MissionAdapter::planTally), empty if none
+  std::string plan_tally;  ///< " fallbacks k=n ...": the planner's counters of what it did when a plan failed its check
   double robot_speed_at_hit = NAN;
   double dist_start_goal = 0.0, dist_left = 0.0;
   std::map<std::string, int64_t> messages;
@@ -649,8 +622,16 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   res.cpu_s = ucon::threadCpuSeconds() - cpu0 + s.worker_cpu_s;
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
-  for (const auto& [k, n] : mission.planTally())
-    res.plan_tally += (res.plan_tally.empty() ? " fallbacks " : " ") + k + "=" + std::to_string(n);
+  for (const auto& [k, n] : stage_nodes[1]->counters()) {
+    static const std::map<std::string, std::string> kShown{
+        {"result_kept_previous", "kept"},       {"result_stop_no_feasible", "stop"},
+        {"least_bad_plans", "least_bad"},       {"evasive_plans", "evasive"},
+        {"rejected_limit_violation", "rejected_limits"}, {"rejected_dynamic_collision", "rejected_mover"},
+        {"rejected_static_collision", "rejected_static"}};
+    const auto it = kShown.find(k);
+    if (it != kShown.end() && n > 0)
+      res.plan_tally += (res.plan_tally.empty() ? " fallbacks " : " ") + it->second + "=" + std::to_string(n);
+  }
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
   res.ok = true;
   res.sim_s = s.sim_time_s;

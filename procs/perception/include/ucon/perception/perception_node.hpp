@@ -113,8 +113,12 @@ class PerceptionNode {
     double width = 0.0;           ///< extent across the line of sight in views not cut by an occluder [m]; 0 = none yet
     Eigen::Vector2d first_center = Eigen::Vector2d::Zero();  ///< where it was first measured [m]
     Points history;               ///< T_c: the latest measurement's points (thinned)
-    std::deque<std::pair<int64_t, Eigen::Vector3d>> measured;  ///< (utime, centre) for differenced velocity
-    std::deque<Points> measured_points;  ///< each of those measurements' points, thinned (registration)
+    struct Measured {
+      int64_t utime = 0;
+      Eigen::Vector3d center = Eigen::Vector3d::Zero();
+      Points points;  ///< thinned; empty unless tracks.registration_velocity
+    };
+    std::deque<Measured> measured;  ///< the measurements of the last velocity baseline
     explicit Track(const kalman::KalmanParams& p) : kf(p) {}
   };
   /// Motion-test history: consecutive frames merged into chunks of ~history_chunk seconds,
