@@ -386,6 +386,10 @@ TEST(PlannerNode, GivenTheSameInputsTwiceThenTheOutputsAreByteIdentical) {
 
 TEST(PlannerNode, GivenObstaclesClosingInFromAllSidesThenNothingPassesTheCheckAndItStops) {
   Fixture f(false);
+  f.params.evasion.enabled = false;  // braking or the least-bad plan only (evasion: below)
+  f.node = std::make_unique<PlannerNode>(f.params, f.report);
+  f.node->map().addCylinder(50.0, 50.0, 0.3);
+  f.node->notifyMapChanged();
   std::vector<tracked_object_t> ring;
   for (int k = 0; k < 12; ++k) {
     const double a = k * 2.0 * M_PI / 12.0;
@@ -432,12 +436,14 @@ std::vector<tracked_object_t> caughtBetween() {
 }  // namespace
 
 // One planning cycle of a robot at the origin driving along +x at 1 m/s among `objs`, goal
-// (6, 0), no detours (the plans towards the goal alone), with the given least_bad_gain_s.
+// (6, 0), no detours (the plans towards the goal alone), with the given least_bad_gain_s and
+// (by default) no evasive manoeuvres.
 struct OneCycle {
   Fixture f{false};
   PlannerOutputs out;
-  OneCycle(double gain, const std::vector<tracked_object_t>& objs) {
+  OneCycle(double gain, const std::vector<tracked_object_t>& objs, bool evasion = false) {
     f.params.least_bad_gain_s = gain;
+    f.params.evasion.enabled = evasion;
     f.params.escape_candidates = 0;
     f.node = std::make_unique<PlannerNode>(f.params, f.report);
     f.node->map().addCylinder(50.0, 50.0, 0.3);
@@ -471,6 +477,108 @@ TEST(PlannerNode, GivenNothingPassesTheCheckButARejectedPlanReachesTheMoversLate
   EXPECT_GE(t_plan, t_stop + 0.3 - 0.02) << t_plan << " vs " << t_stop;
   // And it is clear of the map and within the limits.
   EXPECT_GE(minMapDistance(*f.node, f.node->currentTrajectory()), f.params.optimizer.robot_radius);
+}
+
+namespace {
+/// Smallest gap between the robot's body following `pp` (at rest after its end) and the movers'
+/// bodies (constant velocity, radius half the box diagonal) over [from + t_min, from + horizon].
+double smallestGap(const trajectory::PiecewisePolynomial& pp, int64_t from, const std::vector<tracked_object_t>& objs,
+                   int64_t objs_utime, double t_min, double horizon, double robot_radius) {
+  double worst = INFINITY;
+  for (double s = t_min; s <= horizon + 1e-9; s += 0.01) {
+    const int64_t t = from + int64_t(std::llround(s * 1e6));
+    const auto p = pp.sample(t).position;
+    const double dt = 1e-6 * double(t - objs_utime);
+    for (const auto& o : objs)
+      worst = std::min(worst, std::hypot(p.x() - (o.x + o.vx * dt), p.y() - (o.y + o.vy * dt)) -
+                                  0.5 * std::hypot(o.size_x, o.size_y) - robot_radius);
+  }
+  return worst;
+}
+}  // namespace
+
+TEST(PlannerNode, GivenNothingPassesTheCheckThenItEvadesWhereBrakingWouldBeHitAndStaysClearOfTheMap) {
+  // Driving along +x at 1 m/s; a mover crosses just behind (braking stops the robot in its
+  // way), a line of movers comes from ahead: nothing passes the check.
+  const auto objs = caughtBetween();
+  const OneCycle brake(-1.0, objs);
+  ASSERT_TRUE(brake.out.plan && brake.out.trajectory);
+  ASSERT_EQ(brake.out.plan->result, PlanResult::kStopNoFeasible) << "the scene must defeat every plan";
+
+  const OneCycle evade(-1.0, objs, true);
+  const Fixture& f = evade.f;
+  ASSERT_TRUE(evade.out.plan && evade.out.trajectory);
+  EXPECT_EQ(evade.out.plan->result, PlanResult::kOk);
+  EXPECT_EQ(evade.out.trajectory->status, trajectory_t::STATUS_OK);
+  EXPECT_NE(evade.out.trajectory->message.find("evasive manoeuvre"), std::string::npos) << evade.out.trajectory->message;
+  EXPECT_EQ(f.report.counter("evasive_manoeuvres"), 1);
+  // Braking is hit; the manoeuvre keeps a clearly larger gap to the movers as they are predicted
+  // (after the first 0.1 s, over the evasion horizon), and clear of the map, within the limits.
+  const int64_t from = kT0 + int64_t(f.params.latency_s * 1e6);
+  const double r = f.params.optimizer.robot_radius, h = f.params.evasion.horizon_s;
+  const double g_stop = smallestGap(brake.f.node->currentTrajectory(), from, objs, kT0, 0.1, h, r);
+  const double g_evade = smallestGap(f.node->currentTrajectory(), from, objs, kT0, 0.1, h, r);
+  EXPECT_LT(g_stop, 0.0);
+  EXPECT_GT(g_evade, g_stop + 0.2) << g_evade << " vs " << g_stop;
+  EXPECT_GE(minMapDistance(*f.node, f.node->currentTrajectory()), r);
+  const auto& pp = f.node->currentTrajectory();
+  for (double t = 0.0; t <= pp.duration(); t += 0.01)
+    EXPECT_LE(pp.sampleRelative(t).acceleration.norm(), f.params.optimizer.max_acceleration + 1e-9);
+  // It starts where the robot is expected to be, moving as it does.
+  EXPECT_LT((pp.sample(from).velocity - Eigen::Vector3d(1.0, 0.0, 0.0)).norm(), 1e-9);
+}
+
+TEST(PlannerNode, GivenAnEvasiveManoeuvreUnderWayWhenStillNothingPassesThenItIsKeptUnlessSomethingScoresBetter) {
+  // A ring of movers closing in from every side, one gap in it: nothing passes the check, the
+  // robot heads for the gap; 0.1 s later (the ring closer still) a fresh manoeuvre the same way
+  // scores a little better (it holds full speed 0.1 s longer), by less than keep_margin.
+  std::vector<tracked_object_t> ring;
+  for (int k = 1; k < 12; ++k) {
+    const double a = k * 2.0 * M_PI / 12.0;
+    ring.push_back(object(100 + k, 2.0 * std::cos(a), 2.0 * std::sin(a), -1.0 * std::cos(a), -1.0 * std::sin(a)));
+  }
+  struct Run {
+    PlannerOutputs first, second;
+    int64_t kept = 0;
+  };
+  auto run = [&](double keep_margin) {
+    Fixture f(false);
+    f.params.evasion.keep_margin = keep_margin;
+    f.node = std::make_unique<PlannerNode>(f.params, f.report);
+    f.node->map().addCylinder(50.0, 50.0, 0.3);
+    f.node->notifyMapChanged();
+    f.node->onPose(pose(kT0, 0.0, 0.0));
+    f.node->onObjects(objects(kT0, ring));
+    f.node->onGoal(goal(kT0, 0.0, 6.0));
+    Run r;
+    r.first = f.node->tick(kT0);
+    const int64_t t1 = kT0 + 100'000;
+    const auto s = f.node->currentTrajectory().sample(t1);
+    std::vector<tracked_object_t> moved = ring;
+    for (auto& o : moved) o.x += 0.1 * o.vx, o.y += 0.1 * o.vy;
+    f.node->onPose(pose(t1, s.position.x(), s.position.y(), s.velocity.x(), s.velocity.y()));
+    f.node->onObjects(objects(t1, moved));
+    r.second = f.node->tick(t1);
+    r.kept = f.report.counter("evasion_kept");
+    return r;
+  };
+  const Run keep = run(0.05);
+  ASSERT_TRUE(keep.first.trajectory && keep.second.trajectory && keep.second.plan);
+  ASSERT_NE(keep.first.trajectory->message.find("evasive manoeuvre"), std::string::npos)
+      << keep.first.trajectory->message;
+  EXPECT_EQ(keep.second.plan->result, PlanResult::kKeptPrevious);
+  EXPECT_NE(keep.second.trajectory->message.find("kept (evasion)"), std::string::npos)
+      << keep.second.trajectory->message;
+  EXPECT_EQ(keep.second.trajectory->plan_id, keep.first.trajectory->plan_id);  // the same curve, re-sent
+  EXPECT_EQ(keep.second.trajectory->utime, kT0 + 100'000);
+  EXPECT_EQ(keep.kept, 1);
+  // Without the margin the better-scoring fresh manoeuvre replaces it.
+  const Run fresh = run(0.0);
+  ASSERT_TRUE(fresh.second.trajectory);
+  EXPECT_NE(fresh.second.trajectory->message.find("evasive manoeuvre"), std::string::npos)
+      << fresh.second.trajectory->message;
+  EXPECT_NE(fresh.second.trajectory->plan_id, fresh.first.trajectory->plan_id);
+  EXPECT_EQ(fresh.kept, 0);
 }
 
 TEST(PlannerNode, GivenNothingPassesTheCheckWhenBrakingThenItStopsAtTheFullAccelerationLimitAlongItsPath) {

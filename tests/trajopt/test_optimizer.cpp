@@ -222,6 +222,32 @@ TEST(Optimizer, GivenAStartInsideTheStaticClearanceThenOnlyAPlanLeavingItWithout
             PlanStatus::kStaticCollision);
 }
 
+TEST(Optimizer, GivenAnUncertainObstacleThenItsPredictedSigmaGrowsAndTheCheckCanKeepThatMargin) {
+  // Position variance 0.01 m^2, velocity 0.04 (m/s)^2, no cross terms: sigma(t)^2 = 0.01 + 0.04 t^2.
+  PredictedObstacle o = obstacle(1, Eigen::Vector2d(2.0, 1.0), Eigen::Vector2d(0.0, 0.0), 0.3);
+  EXPECT_NEAR(predictedPositionSigma(o, kStart), 0.1, 1e-12);
+  EXPECT_NEAR(predictedPositionSigma(o, kStart + 1'500'000), std::sqrt(0.01 + 0.04 * 2.25), 1e-12);
+  // Correlated position and velocity along x (P_pv = 0.02): 0.01 + 2 t 0.02 + 0.04 t^2 at t = 1.
+  o.covariance(0, 3) = o.covariance(3, 0) = 0.02;
+  EXPECT_NEAR(predictedPositionSigma(o, kStart + 1'000'000), std::sqrt(0.09), 1e-12);
+  o.has_covariance = false;
+  EXPECT_EQ(predictedPositionSigma(o, kStart + 1'000'000), 0.0);
+  o.has_covariance = true;
+  o.covariance(1, 1) = NAN;
+  EXPECT_EQ(predictedPositionSigma(o, kStart + 1'000'000), 0.0);
+
+  // A still obstacle 0.65 m beside a straight run along x: its body 0.35 m from the robot's
+  // centre at the closest, more than robot_radius (0.3 m).
+  OptimizerParams p;
+  const std::vector<PredictedObstacle> obs{obstacle(2, Eigen::Vector2d(1.0, 0.65), Eigen::Vector2d::Zero(), 0.3)};
+  EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, nullptr, obs, p).status, PlanStatus::kOk);
+  // Grown by one sigma (0.1 m now, 0.22 m when passing it at 1 s) it is within reach.
+  p.check_uncertainty_k = 1.0;
+  const SafetyCheck grown = checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, nullptr, obs, p);
+  EXPECT_EQ(grown.status, PlanStatus::kDynamicCollision);
+  EXPECT_LE(grown.min_dynamic_clearance, 0.35 - std::sqrt(0.01 + 0.04) + 1e-9);
+}
+
 TEST(Optimizer, GivenYamlThenParamsReadOneToOneAndTyposRejected) {
   const std::string yaml = R"(
 obstacle_model: fapp
@@ -244,6 +270,7 @@ robot_radius: 0.3
 check_step: 0.02
 check_horizon: 2.0
 limit_tolerance: 0.1
+check_uncertainty_k: 0.5
 static_escape_s: 1.0
 sector:
   h: 0.02
@@ -261,6 +288,7 @@ sector:
   EXPECT_EQ(p->samples_per_piece, 10);
   EXPECT_DOUBLE_EQ(p->sector.beta, 25.0);
   EXPECT_DOUBLE_EQ(p->safe_distance, 0.45);
+  EXPECT_DOUBLE_EQ(p->check_uncertainty_k, 0.5);
   EXPECT_FALSE(ucon::loadParams<OptimizerParams>(yaml + "lamda_d: 1\n", "t.yaml", &errors).has_value());
   std::string wrong = yaml;
   wrong.replace(wrong.find("fapp"), 4, "ellipse");

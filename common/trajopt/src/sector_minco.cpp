@@ -74,6 +74,7 @@ void OptimizerParams::read(ConfigReader& r) {
   r.read("check_step", check_step, 1e-3, 1.0);
   r.read("check_horizon", check_horizon, 0.0, 60.0);
   r.read("limit_tolerance", limit_tolerance, 0.0, 10.0);
+  r.read("check_uncertainty_k", check_uncertainty_k, 0.0, 5.0);
   r.read("static_escape_s", static_escape_s, 0.0, 60.0);
   ConfigReader s = r.section("sector");
   sector.read(s);
@@ -103,6 +104,7 @@ std::string OptimizerParams::validate() const {
   if (!pos(check_step)) return "check_step";
   if (!nonneg(check_horizon)) return "check_horizon";
   if (!nonneg(limit_tolerance)) return "limit_tolerance";
+  if (!nonneg(check_uncertainty_k)) return "check_uncertainty_k";
   if (!nonneg(static_escape_s)) return "static_escape_s";
   if (!nonneg(sector.h)) return "sector.h";
   if (!nonneg(sector.k)) return "sector.k";
@@ -149,6 +151,16 @@ Eigen::Vector2d evalPiece(const trajectory_t& tr, int k, double t, int order) {
 }
 
 }  // namespace
+
+double predictedPositionSigma(const PredictedObstacle& o, int64_t utime) {
+  if (!o.has_covariance) return 0.0;
+  const double dt = 1e-6 * static_cast<double>(utime - o.utime);
+  const auto& P = o.covariance;
+  auto c = [&](int i, int j) { return P(i, j) + dt * (P(i, j + 3) + P(i + 3, j)) + dt * dt * P(i + 3, j + 3); };
+  const double a = c(0, 0), b = 0.5 * (c(0, 1) + c(1, 0)), d = c(1, 1);
+  const double l = 0.5 * (a + d) + std::sqrt(std::max(0.0, 0.25 * (a - d) * (a - d) + b * b));
+  return std::isfinite(l) && l > 0.0 ? std::sqrt(l) : 0.0;
+}
 
 SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const DistanceField2D* field,
                             const std::vector<PredictedObstacle>& obstacles, const OptimizerParams& params) {
@@ -211,7 +223,8 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
       const int64_t t_abs = tr.start_utime + static_cast<int64_t>(std::llround(t * 1e6));
       for (const auto& o : obstacles) {
         if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-        const double gap = predictedBodyGap(o, p, t_abs);
+        double gap = predictedBodyGap(o, p, t_abs);
+        if (params.check_uncertainty_k > 0.0) gap -= params.check_uncertainty_k * predictedPositionSigma(o, t_abs);
         out.min_dynamic_clearance = std::min(out.min_dynamic_clearance, gap);
         if (out.status == PlanStatus::kOk && gap < params.robot_radius) {
           out.status = PlanStatus::kDynamicCollision;

@@ -1,5 +1,7 @@
 #include "ucon/planner/planner_node.hpp"
 
+#include "ucon/planner/evasion.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -288,6 +290,18 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     record(info);
     return out;
   };
+  // The current plan goes out again, stamped now: the base controller stops on a trajectory
+  // older than its watchdog (0.2 s), and a planner that keeps its plan for two cycles in a row
+  // must not look like a silent one.
+  auto keep = [&](const std::string& info_msg, const std::string& msg) {
+    info.result = PlanResult::kKeptPrevious;
+    info.message = info_msg;
+    out.trajectory = resend(now, msg);
+    info.total_ms = msSince(t_start);
+    out.plan = info;
+    record(info);
+    return out;
+  };
 
   // Inputs.
   if (!pose_ || clock_.ageSeconds(pose_->utime) > params_.pose_timeout_s) {
@@ -443,17 +457,12 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     report_.count(std::string("rejected_") + trajopt::toString(po.status));
     const std::string why = std::string(trajopt::toString(po.status)) +
                             (po.message.empty() ? "" : ": " + po.message);
-    if (previousStillSafe()) {
-      info.result = PlanResult::kKeptPrevious;
-      info.message = "rejected: " + why;
-      // The previous plan goes out again, stamped now: the base controller stops on a
-      // trajectory older than its watchdog (0.2 s), and a planner that keeps its plan for two
-      // cycles in a row must not look like a silent one.
-      out.trajectory = resend(now, "kept previous plan; new one " + info.message);
-      info.total_ms = msSince(t_start);
-      out.plan = info;
-      record(info);
-      return out;
+    if (previousStillSafe()) return keep("rejected: " + why, "kept previous plan; new one rejected: " + why);
+    if (params_.evasion.enabled) {
+      const Evasion e = evade(now);
+      if (e.kind == Evasion::kBrake) return stop(PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
+      if (e.kind == Evasion::kKeep) return keep(e.message, e.message);
+      return follow(e.pp, e.message);
     }
     // Braking leaves the robot where it is: when a rejected plan is predicted to reach the
     // movers clearly later than braking does, following it is the safer choice (the next
@@ -472,6 +481,57 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     return stop(PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
   }
   return follow(candidate, evasive_note.empty() ? guide_note : evasive_note);
+}
+
+PlannerNode::Evasion PlannerNode::evade(int64_t now) {
+  // Braking, the least-bad rejected plan and the fan of manoeuvres, by one score (evasion.hpp).
+  const int64_t t0 = now + int64_t(params_.latency_s * kUsPerS);
+  const trajopt::DistanceField2D* field = map_.ready() ? field_.get() : nullptr;
+  const Eigen::Vector2d goal_xy(goal_->x, goal_->y);
+  const double r = params_.optimizer.robot_radius;
+  const EvasionParams& ep = params_.evasion;
+  Evasion out;
+  trajectory::PiecewisePolynomial stop_pp;
+  Eigen::Vector2d p, v;
+  if (!stopPolynomial(now, &stop_pp) || !expectedState(now, &p, &v)) return out;
+  const EvasionScore braking = scoreTrajectory(stop_pp, t0, goal_xy, field, obstacles_, r, ep);
+  EvasionScore least_bad;
+  least_bad.total = -std::numeric_limits<double>::infinity();
+  if (fallback_) least_bad = scoreTrajectory(fallback_->pp, t0, goal_xy, field, obstacles_, r, ep);
+  // The trajectory being followed (it failed the check, as everything did): kept unless another
+  // scores better by keep_margin, so that the manoeuvre of the last cycle is not swapped for a
+  // near tie (a heading the other way within the noise of the prediction).
+  EvasionScore kept;
+  kept.total = -std::numeric_limits<double>::infinity();
+  if (current_.valid() && current_status_ == trajectory_t::STATUS_OK)
+    kept = scoreTrajectory(current_, t0, goal_xy, field, obstacles_, r, ep);
+  const Manoeuvre m = bestManoeuvre(t0, p, v, goal_xy, params_.optimizer.max_velocity,
+                                    params_.optimizer.max_acceleration, field, obstacles_, r, ep);
+  const double m_total = m.pp.valid() ? m.score.total : -std::numeric_limits<double>::infinity();
+  char buf[200];
+  const double margin = ep.keep_margin;
+  if (kept.total > braking.total && kept.total + margin >= least_bad.total && kept.total + margin >= m_total) {
+    report_.count("evasion_kept");
+    std::snprintf(buf, sizeof(buf), "kept (evasion): gap %.2f m predicted, braking %.2f m", kept.min_gap,
+                  braking.min_gap);
+    out.kind = Evasion::kKeep;
+    out.message = buf;
+  } else if (m_total > braking.total && m_total > least_bad.total) {
+    report_.count("evasive_manoeuvres");
+    std::snprintf(buf, sizeof(buf), "evasive manoeuvre at (%.2f, %.2f) m/s: gap %.2f m predicted, braking %.2f m",
+                  m.velocity.x(), m.velocity.y(), m.score.min_gap, braking.min_gap);
+    out.kind = Evasion::kManoeuvre;
+    out.pp = m.pp;
+    out.message = buf;
+  } else if (least_bad.total > braking.total) {
+    report_.count("least_bad_plans");
+    std::snprintf(buf, sizeof(buf), "least bad: gap %.2f m predicted, braking %.2f m", least_bad.min_gap,
+                  braking.min_gap);
+    out.kind = Evasion::kLeastBad;
+    out.pp = fallback_->pp;
+    out.message = buf;
+  }
+  return out;
 }
 
 trajopt::PlanOutput PlannerNode::planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations) {
@@ -600,9 +660,8 @@ trajectory_t PlannerNode::stopTrajectory(int64_t now, int8_t status, const std::
   return msg;
 }
 
-bool PlannerNode::stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* out) const {
-  // From the state the robot is expected to be in at now + latency: the current plan if any,
-  // else the pose.
+bool PlannerNode::expectedState(int64_t now, Eigen::Vector2d* p_out, Eigen::Vector2d* v_out) const {
+  // The current plan at now + latency if any (the pose if the robot is off it), else the pose.
   const int64_t t0 = now + int64_t(params_.latency_s * kUsPerS);
   Eigen::Vector2d p, v = Eigen::Vector2d::Zero();
   bool have = false;
@@ -621,6 +680,15 @@ bool PlannerNode::stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* o
     have = true;
   }
   if (!have || !p.allFinite() || !v.allFinite()) return false;
+  *p_out = p;
+  *v_out = v;
+  return true;
+}
+
+bool PlannerNode::stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* out) const {
+  const int64_t t0 = now + int64_t(params_.latency_s * kUsPerS);
+  Eigen::Vector2d p, v;
+  if (!expectedState(now, &p, &v)) return false;
   // Straight to rest at the full acceleration limit, along the current velocity (half the
   // distance of a smooth minimum-jerk stop, whose peak deceleration would be the limit), then
   // held for half a second. The step in acceleration is the base controller's to smooth.

@@ -38,6 +38,8 @@ void PlannerParams::read(ConfigReader& r) {
   r.read("escape_candidates", escape_candidates, 0, 16);
   r.read("escape_distance", escape_distance, 0.5, 10.0);
   r.read("least_bad_gain_s", least_bad_gain_s, -1.0, 10.0);
+  auto ev = r.section("evasion");
+  evasion.read(ev);
   auto ws = r.section("workspace");
   workspace.read(ws);
   auto ob = r.section("objects");

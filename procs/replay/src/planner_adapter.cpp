@@ -60,7 +60,7 @@ class PlannerAdapter : public NodeAdapter {
         {"inputs", inputs_}, {"plans", plans_}, {"trajectories_out", trajectories_}, {"decode_errors", decode_errors_}};
     // What the planner did when a new plan failed its check, and why it failed (its own status counters).
     for (const char* k : {"result_kept_previous", "result_stop_no_feasible", "least_bad_plans", "evasive_plans",
-                          "rejected_limit_violation", "rejected_dynamic_collision", "rejected_static_collision"})
+                          "evasive_manoeuvres", "evasion_kept", "rejected_limit_violation", "rejected_dynamic_collision", "rejected_static_collision"})
       c.emplace_back(k, report_.counter(k));
     return c;
   }

@@ -439,15 +439,15 @@ class MissionAdapter : public rp::NodeAdapter {
       char b[360];
       const double gap = std::hypot(o->x - s.gt.robot_x, o->y - s.gt.robot_y) - o->radius - s.gt.robot_radius;
       if (tr && td < 1.5)
-        std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover at (%.2f %.2f) v (%.2f %.2f) r %.2f static %d | track %lld %.2f m off v (%.2f %.2f) r %.2f st %d assoc %d pts %d | %s",
+        std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover at (%.2f %.2f) v (%.2f %.2f) r %.2f vis %.2f static %d | track %lld %.2f m off v (%.2f %.2f) r %.2f st %d assoc %d pts %d | %s",
                       1e-6 * double(recent_.back().gt.utime - s.gt.utime), gap, s.gt.robot_vx, s.gt.robot_vy, o->x, o->y, o->vx, o->vy,
-                      o->radius, on_body, static_cast<long long>(tr->id), td, tr->vx, tr->vy,
+                      o->radius, o->visible, on_body, static_cast<long long>(tr->id), td, tr->vx, tr->vy,
                       0.5 * std::hypot(tr->size_x, tr->size_y), int(tr->state),
                       int(tr->last_association), tr->num_points, s.plan.substr(0, 60).c_str());
       else
-        std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover at (%.2f %.2f) v (%.2f %.2f) static %d | no track | %s",
+        std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover at (%.2f %.2f) v (%.2f %.2f) vis %.2f static %d | no track | %s",
                       1e-6 * double(recent_.back().gt.utime - s.gt.utime), gap, s.gt.robot_vx, s.gt.robot_vy, o->x, o->y, o->vx, o->vy,
-                      on_body, s.plan.substr(0, 60).c_str());
+                      o->visible, on_body, s.plan.substr(0, 60).c_str());
       out += b;
     }
     return out;
@@ -626,6 +626,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     static const std::map<std::string, std::string> kShown{
         {"result_kept_previous", "kept"},       {"result_stop_no_feasible", "stop"},
         {"least_bad_plans", "least_bad"},       {"evasive_plans", "evasive"},
+        {"evasive_manoeuvres", "manoeuvre"},    {"evasion_kept", "evasion_kept"},
         {"rejected_limit_violation", "rejected_limits"}, {"rejected_dynamic_collision", "rejected_mover"},
         {"rejected_static_collision", "rejected_static"}};
     const auto it = kShown.find(k);

@@ -219,7 +219,7 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
   for (const char* name : {"rejected_limit_violation", "rejected_static_collision", "rejected_dynamic_collision",
                            "rejected_optimiser_failed", "rejected_invalid_input", "result_kept_previous",
                            "replans_unsafe", "plan_restarts_from_pose", "goal_unreachable", "escape_attempts",
-                           "evasive_plans"}) {
+                           "evasive_plans", "least_bad_plans", "evasive_manoeuvres", "evasion_kept"}) {
     if (report.counter(name) > 0) res.counters += std::string(name) + "=" + std::to_string(report.counter(name)) + " ";
   }
   return res;

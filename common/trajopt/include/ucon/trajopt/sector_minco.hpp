@@ -72,6 +72,9 @@ struct OptimizerParams {
   double check_step = 0.02;      ///< sampling step of the post-check [s], > 0
   double check_horizon = 2.0;    ///< predicted obstacles are checked this far ahead [s], >= 0
   double limit_tolerance = 0.1;  ///< allowed relative excess of |v| and |a| in the check [-], >= 0
+  /// In the check, each obstacle body grows by this many standard deviations of its predicted
+  /// position (predictedPositionSigma) [-], >= 0 (0: the constant-velocity prediction as it is).
+  double check_uncertainty_k = 0.0;
   /// A trajectory starting closer to static obstacles than robot_radius (the map's cells are
   /// 0.1 m, and a mover's leaked points can land beside the robot) may stay that close for at
   /// most this long, never closer than it starts, on its way out [s], >= 0 (0: such a start
@@ -165,6 +168,11 @@ inline double predictedBodyGap(const PredictedObstacle& o, const Eigen::Vector2d
   const Eigen::Vector2d mu = o.state.head<2>() + dt * o.state.segment<2>(3);
   return (p - mu).norm() - o.radius;
 }
+
+/// Standard deviation [m] of `o`'s predicted x-y position at `utime` along its most uncertain
+/// direction, under constant velocity: sqrt(lambda_max(P_pp + dt (P_pv + P_vp) + dt^2 P_vv));
+/// 0 without covariance or if that is not finite.
+double predictedPositionSigma(const PredictedObstacle& o, int64_t utime);
 
 /// Checks a 2-D order1 = 6 trajectory message against the field (may be null), the
 /// obstacles (constant-velocity prediction of their state) and the limits of `params`.

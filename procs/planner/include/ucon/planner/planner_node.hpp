@@ -118,6 +118,17 @@ class PlannerNode {
   /// Short detours away from the predicted obstacles when nothing toward the goal passed.
   trajopt::PlanOutput planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations);
   trajectory_t stopTrajectory(int64_t now, int8_t status, const std::string& message);
+  /// Nothing passed the check: braking, the plan being followed, the least-bad rejected plan or
+  /// an evasive manoeuvre, whichever scores best (evasion.hpp).
+  struct Evasion {
+    enum Kind { kBrake, kKeep, kLeastBad, kManoeuvre } kind = kBrake;
+    trajectory::PiecewisePolynomial pp;  ///< to follow (kLeastBad, kManoeuvre)
+    std::string message;
+  };
+  Evasion evade(int64_t now);
+  /// Position and velocity the robot is expected to have at now + latency: the current plan's
+  /// (the pose's if the robot is off it), else the pose's; false without a finite state.
+  bool expectedState(int64_t now, Eigen::Vector2d* p, Eigen::Vector2d* v) const;
   /// The braking polynomial stopTrajectory() publishes; false without a state to stop from.
   bool stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* pp) const;
   /// Keeps `po` as this cycle's least-bad fallback if it failed only on predicted obstacles

@@ -6,6 +6,7 @@
 
 #include "ucon/kalman/constant_velocity_kalman.hpp"
 #include "ucon/planner/esdf_map.hpp"
+#include "ucon/planner/evasion.hpp"
 #include "ucon/planner/guide_path.hpp"
 #include "ucon/trajopt/sector_minco.hpp"
 
@@ -63,6 +64,9 @@ struct PlannerParams {
   /// within the limits replaces braking if it comes within reach of the predicted obstacles
   /// at least this much later than braking does [s], 0..10; negative = always brake.
   double least_bad_gain_s = 0.0;
+  /// Nothing passed the check: braking, the least-bad rejected plan or a manoeuvre by one score
+  /// (YAML `evasion`; when disabled, least_bad_gain_s decides between the first two).
+  EvasionParams evasion;
   Workspace workspace;
   ObjectParams objects;
   kalman::KalmanParams kalman;        ///< prediction model of obstacle state and covariance
