@@ -246,6 +246,11 @@ TEST(Optimizer, GivenAnUncertainObstacleThenItsPredictedSigmaGrowsAndTheCheckCan
   const SafetyCheck grown = checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, nullptr, obs, p);
   EXPECT_EQ(grown.status, PlanStatus::kDynamicCollision);
   EXPECT_LE(grown.min_dynamic_clearance, 0.35 - std::sqrt(0.01 + 0.04) + 1e-9);
+  // Capped at 0.04 m the growth no longer reaches the robot: 0.35 - 0.04 > 0.3.
+  p.check_uncertainty_cap = 0.04;
+  const SafetyCheck capped = checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, nullptr, obs, p);
+  EXPECT_EQ(capped.status, PlanStatus::kOk);
+  EXPECT_NEAR(capped.min_dynamic_clearance, 0.35 - 0.04, 1e-3);
 }
 
 TEST(Optimizer, GivenYamlThenParamsReadOneToOneAndTyposRejected) {
@@ -271,6 +276,7 @@ check_step: 0.02
 check_horizon: 2.0
 limit_tolerance: 0.1
 check_uncertainty_k: 0.5
+check_uncertainty_cap: 0.2
 static_escape_s: 1.0
 sector:
   h: 0.02
@@ -289,6 +295,7 @@ sector:
   EXPECT_DOUBLE_EQ(p->sector.beta, 25.0);
   EXPECT_DOUBLE_EQ(p->safe_distance, 0.45);
   EXPECT_DOUBLE_EQ(p->check_uncertainty_k, 0.5);
+  EXPECT_DOUBLE_EQ(p->check_uncertainty_cap, 0.2);
   EXPECT_FALSE(ucon::loadParams<OptimizerParams>(yaml + "lamda_d: 1\n", "t.yaml", &errors).has_value());
   std::string wrong = yaml;
   wrong.replace(wrong.find("fapp"), 4, "ellipse");

@@ -75,6 +75,7 @@ void OptimizerParams::read(ConfigReader& r) {
   r.read("check_horizon", check_horizon, 0.0, 60.0);
   r.read("limit_tolerance", limit_tolerance, 0.0, 10.0);
   r.read("check_uncertainty_k", check_uncertainty_k, 0.0, 5.0);
+  r.read("check_uncertainty_cap", check_uncertainty_cap, 0.0, 10.0);
   r.read("static_escape_s", static_escape_s, 0.0, 60.0);
   ConfigReader s = r.section("sector");
   sector.read(s);
@@ -105,6 +106,7 @@ std::string OptimizerParams::validate() const {
   if (!nonneg(check_horizon)) return "check_horizon";
   if (!nonneg(limit_tolerance)) return "limit_tolerance";
   if (!nonneg(check_uncertainty_k)) return "check_uncertainty_k";
+  if (!nonneg(check_uncertainty_cap)) return "check_uncertainty_cap";
   if (!nonneg(static_escape_s)) return "static_escape_s";
   if (!nonneg(sector.h)) return "sector.h";
   if (!nonneg(sector.k)) return "sector.k";
@@ -224,7 +226,11 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
       for (const auto& o : obstacles) {
         if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
         double gap = predictedBodyGap(o, p, t_abs);
-        if (params.check_uncertainty_k > 0.0) gap -= params.check_uncertainty_k * predictedPositionSigma(o, t_abs);
+        if (params.check_uncertainty_k > 0.0) {
+          double grow = params.check_uncertainty_k * predictedPositionSigma(o, t_abs);
+          if (params.check_uncertainty_cap > 0.0) grow = std::min(grow, params.check_uncertainty_cap);
+          gap -= grow;
+        }
         out.min_dynamic_clearance = std::min(out.min_dynamic_clearance, gap);
         if (out.status == PlanStatus::kOk && gap < params.robot_radius) {
           out.status = PlanStatus::kDynamicCollision;

@@ -75,6 +75,9 @@ struct OptimizerParams {
   /// In the check, each obstacle body grows by this many standard deviations of its predicted
   /// position (predictedPositionSigma) [-], >= 0 (0: the constant-velocity prediction as it is).
   double check_uncertainty_k = 0.0;
+  /// ... by at most this much [m], >= 0 (0: no cap). A track seen only once states a velocity
+  /// sigma of ~1 m/s, which grows its body by metres within the horizon and stalls the robot.
+  double check_uncertainty_cap = 0.0;
   /// A trajectory starting closer to static obstacles than robot_radius (the map's cells are
   /// 0.1 m, and a mover's leaked points can land beside the robot) may stay that close for at
   /// most this long, never closer than it starts, on its way out [s], >= 0 (0: such a start
