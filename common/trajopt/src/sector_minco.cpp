@@ -225,12 +225,7 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
       const int64_t t_abs = tr.start_utime + static_cast<int64_t>(std::llround(t * 1e6));
       for (const auto& o : obstacles) {
         if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-        double gap = predictedBodyGap(o, p, t_abs);
-        if (params.check_uncertainty_k > 0.0) {
-          double grow = params.check_uncertainty_k * predictedPositionSigma(o, t_abs);
-          if (params.check_uncertainty_cap > 0.0) grow = std::min(grow, params.check_uncertainty_cap);
-          gap -= grow;
-        }
+        const double gap = grownBodyGap(o, p, t_abs, params.check_uncertainty_k, params.check_uncertainty_cap);
         out.min_dynamic_clearance = std::min(out.min_dynamic_clearance, gap);
         if (out.status == PlanStatus::kOk && gap < params.robot_radius) {
           out.status = PlanStatus::kDynamicCollision;

@@ -57,11 +57,7 @@ EvasionScore scoreTrajectory(const trajectory::PiecewisePolynomial& pp, int64_t 
     double nearest = params.gap_cap;
     for (const auto& o : obstacles) {
       if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-      const double dt = 1e-6 * static_cast<double>(t_abs - o.utime);
-      const Eigen::Vector2d mu = o.state.head<2>() + dt * o.state.segment<2>(3);
-      const double sigma = params.uncertainty_k > 0.0 ? trajopt::predictedPositionSigma(o, t_abs) : 0.0;
-      const double gap = (p - mu).norm() - o.radius - robot_radius - params.uncertainty_k * sigma;
-      nearest = std::min(nearest, gap);
+      nearest = std::min(nearest, trajopt::grownBodyGap(o, p, t_abs, params.uncertainty_k, 0.0) - robot_radius);
     }
     min_gap = std::min(min_gap, nearest);
     gap_sum += nearest;

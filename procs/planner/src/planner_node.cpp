@@ -1,7 +1,5 @@
 #include "ucon/planner/planner_node.hpp"
 
-#include "ucon/planner/evasion.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>

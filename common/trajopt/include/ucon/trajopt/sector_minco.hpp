@@ -9,6 +9,7 @@
 /// against static obstacles, limits and the predicted obstacles. Independent of maps and LCM.
 /// Deterministic unless OptimizerParams::use_time_budget is set.
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -176,6 +177,16 @@ inline double predictedBodyGap(const PredictedObstacle& o, const Eigen::Vector2d
 /// direction, under constant velocity: sqrt(lambda_max(P_pp + dt (P_pv + P_vp) + dt^2 P_vv));
 /// 0 without covariance or if that is not finite.
 double predictedPositionSigma(const PredictedObstacle& o, int64_t utime);
+
+/// predictedBodyGap with the body grown by k standard deviations of its predicted position
+/// (predictedPositionSigma), the growth at most `cap` [m] (cap <= 0: no cap; k <= 0: no growth).
+inline double grownBodyGap(const PredictedObstacle& o, const Eigen::Vector2d& p, int64_t utime, double k,
+                           double cap) {
+  const double gap = predictedBodyGap(o, p, utime);
+  if (!(k > 0.0)) return gap;
+  const double grow = k * predictedPositionSigma(o, utime);
+  return gap - (cap > 0.0 ? std::min(grow, cap) : grow);
+}
 
 /// Checks a 2-D order1 = 6 trajectory message against the field (may be null), the
 /// obstacles (constant-velocity prediction of their state) and the limits of `params`.
