@@ -20,7 +20,7 @@ namespace ucon::planner {
 
 /// Front-end parameters (YAML section `front_end`).
 struct FrontEndParams {
-  double inflation = 0.4;        ///< guide path prefers this clearance from static obstacles [m], >= 0
+  double inflation = 0.6;        ///< guide path prefers this clearance from static obstacles [m], >= 0
   double hard_clearance = 0.3;   ///< cells closer than this are blocked [m], <= inflation
   double soft_cost = 4.0;        ///< extra cost factor at hard_clearance, fading to 0 at inflation, >= 0
   double window_radius = 6.0;    ///< the search stops at this distance from the robot [m], > 0
