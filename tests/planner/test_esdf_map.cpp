@@ -298,6 +298,10 @@ TEST(EsdfMap, GivenLongSequencesOfScansAndCellWritesThenEveryBandCellEqualsAFull
       a.addCylinder(0.8, -0.4, 0.5, false);
       b.addCylinder(0.8, -0.4, 0.5, false);
     }
+    if (scan % 7 == 3) {  // pruning deletes leaves the band-only map holds the addresses of
+      a.pruneTree();
+      b.pruneTree();
+    }
     int occ = 0;
     compare(scan, &occ);
     if (HasFatalFailure()) return;
@@ -308,6 +312,36 @@ TEST(EsdfMap, GivenLongSequencesOfScansAndCellWritesThenEveryBandCellEqualsAFull
   b.update(Eigen::Vector2d(0, 0));
   for (int iy = 0; iy < a.slice().ny; ++iy)
     for (int ix = 0; ix < a.slice().nx; ++ix) ASSERT_EQ(a.cellDistance(ix, iy), b.cellDistance(ix, iy));
+}
+
+TEST(EsdfMap, GivenRandomRaysThenTheInsertionTraversesExactlyTheCellsOfOctomapsComputeRayKeys) {
+  // The band-only insertion walks each ray with its own copy of OctoMap's DDA (no key list
+  // stored); it must list the very same cells, including rays along axes, through cell
+  // corners and edges, and of zero length.
+  EsdfMap m(smallParams());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> coord(-12.0f, 12.0f), z(-0.5f, 2.0f);
+  std::uniform_int_distribution<int> grid(-120, 120), kind(0, 5);
+  std::size_t total = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Eigen::Vector3f o(coord(rng) * 0.1f, coord(rng) * 0.1f, 0.3f + 0.1f * z(rng));
+    Eigen::Vector3f e(coord(rng), coord(rng), z(rng));
+    switch (kind(rng)) {
+      case 0: e.y() = o.y(); break;                                   // along x
+      case 1: e.x() = o.x(), e.z() = o.z(); break;                    // along y
+      case 2: e = Eigen::Vector3f(grid(rng), grid(rng), 3) * 0.1f; break;  // to a cell corner
+      case 3: o = Eigen::Vector3f(0.05f, 0.05f, 0.25f); break;        // from a cell centre
+      case 4: e = o; break;                                           // zero length
+      default: break;
+    }
+    std::size_t cells = 0;
+    ASSERT_TRUE(m.rayKeysMatchOctomap(o, e, &cells)) << "ray " << o.transpose() << " -> " << e.transpose();
+    total += cells;
+  }
+  EXPECT_GT(total, std::size_t(20000) * 30);  // long rays, not just trivial ones
+  std::size_t cells = 1;
+  EXPECT_TRUE(m.rayKeysMatchOctomap(Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1e7f, 0, 0), &cells));
+  EXPECT_EQ(cells, 0u) << "an end outside the tree: nothing visited, as OctoMap";
 }
 
 TEST(EsdfMap, GivenManyScansOfFreeSpaceWhenInsertedLazilyThenTheTreeIsPrunedNowAndThen) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <iterator>
 #include <limits>
 
@@ -100,6 +101,51 @@ void distanceTransform1d(const float* f, int n, float* d, int* v, float* z) {
   }
 }
 
+/// The keys OctoMap's OcTree::computeRayKeys(origin, end, ray) would put into `ray`, in the
+/// same order, handed to `visit(key)` one by one instead of being stored: the same 3-D DDA
+/// (Amanatides & Woo) with the same arithmetic, so the same cells (tested against
+/// computeRayKeys on random rays). False, visiting nothing, when an end lies outside the tree.
+template <class Visit>
+bool traceRayKeys(const octomap::OcTree& t, const octomap::point3d& origin, const octomap::point3d& end,
+                  Visit&& visit) {
+  octomap::OcTreeKey key_origin, key_end;
+  if (!t.coordToKeyChecked(origin, key_origin) || !t.coordToKeyChecked(end, key_end)) return false;
+  if (key_origin == key_end) return true;
+  visit(key_origin);
+  octomap::point3d direction = end - origin;
+  const float length = float(direction.norm());
+  direction /= length;
+  const double resolution = t.getResolution();
+  int step[3];
+  double t_max[3], t_delta[3];
+  octomap::OcTreeKey current = key_origin;
+  for (unsigned i = 0; i < 3; ++i) {
+    step[i] = direction(i) > 0.0 ? 1 : (direction(i) < 0.0 ? -1 : 0);
+    if (step[i] != 0) {
+      double border = t.keyToCoord(current[i]);
+      border += float(step[i] * resolution * 0.5);
+      t_max[i] = (border - origin(i)) / direction(i);
+      t_delta[i] = resolution / std::fabs(direction(i));
+    } else {
+      t_max[i] = std::numeric_limits<double>::max();
+      t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  while (true) {
+    unsigned dim;
+    if (t_max[0] < t_max[1]) {
+      dim = t_max[0] < t_max[2] ? 0 : 2;
+    } else {
+      dim = t_max[1] < t_max[2] ? 1 : 2;
+    }
+    current[dim] = octomap::key_type(current[dim] + step[dim]);
+    t_max[dim] += t_delta[dim];
+    if (current == key_end) return true;
+    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return true;
+    visit(current);
+  }
+}
+
 }  // namespace
 
 struct EsdfMap::Impl {
@@ -120,44 +166,96 @@ struct EsdfMap::Impl {
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
-  std::vector<uint32_t> stamp_free, stamp_occupied;  // ... its per-cell dedup stamps
+  std::vector<uint32_t> stamp;  // ... its per-cell dedup stamps: insertion number << 1 | occupied
   uint32_t stamp_gen = 0;
-  /// Leaves known to sit at a clamping bound, on a rolling grid (slot -> tagged key and which
-  /// bound; 0 = nothing known). A miss on a leaf at the free bound, or a hit on one at the
-  /// occupied bound, cannot change it: OctoMap's updateNode searches the tree and returns
-  /// unchanged, and most rays of every scan cross such leaves. Skipping that search gives the
-  /// same tree. Every other write to a leaf re-derives or forgets its entry.
-  std::vector<uint64_t> clamped = std::vector<uint64_t>(std::size_t(1) << 20, 0);
-  static uint64_t clampTag(const octomap::OcTreeKey& k, bool at_max) {
-    return (uint64_t(1) << 63) | (uint64_t(at_max) << 62) | (uint64_t(k[0]) << 32) | (uint64_t(k[1]) << 16) |
-           uint64_t(k[2]);
+  /// Log-odds of leaves on a rolling grid (slot -> tagged key; 0 = nothing known), so that the
+  /// insertion and the projection rarely search the tree. A tag with kAbsent set records that
+  /// no leaf (and no pruned node) covers the key. Exact: every write to the tree goes through
+  /// writeLeaf or the all-heights insertion (which forgets the cache); pruning keeps every
+  /// leaf's value (a pruned node holds the value its children all had). Most rays of every
+  /// scan cross leaves at a clamping bound, where a hit or miss changes nothing and is skipped
+  /// as OctoMap's updateNode would.
+  ///
+  /// A slot also keeps the address of its leaf once a write has reached it: the next write
+  /// sets the value in place instead of descending the tree's 16 levels again (one cache miss
+  /// instead of sixteen). Leaves are deleted only by pruning, which forgets every address.
+  /// Writes in place bypass OctoMap's change detection; the columns whose occupancy they
+  /// flip are collected in `flipped_columns` for syncProjection.
+  static constexpr std::size_t kCacheSlots = std::size_t(1) << 20;
+  static constexpr uint64_t kKnown = uint64_t(1) << 63, kAbsent = uint64_t(1) << 62;
+  static constexpr uint64_t kTagMask = ~uint64_t(0xffffffffu) & ~kAbsent;
+  /// One slot: the key bits its index does not hold, the flags and the value in one word, and
+  /// the leaf's address (16 bytes: one cache line per lookup).
+  struct CacheSlot {
+    uint64_t word = 0;  // kKnown | kAbsent? | key's high bits << 32 | value's bits
+    octomap::OcTreeNode* leaf = nullptr;
+  };
+  std::vector<CacheSlot> cache = std::vector<CacheSlot>(kCacheSlots);
+  std::vector<std::pair<octomap::key_type, octomap::key_type>> flipped_columns;
+  static std::size_t cacheSlot(const octomap::OcTreeKey& k) {
+    return (std::size_t(k[0] & 255) << 12) | (std::size_t(k[1] & 255) << 4) | std::size_t(k[2] & 15);
   }
-  uint64_t& clampSlot(const octomap::OcTreeKey& k) {
-    return clamped[(std::size_t(k[0] & 255) << 12) | (std::size_t(k[1] & 255) << 4) | std::size_t(k[2] & 15)];
+  static uint64_t cacheTag(const octomap::OcTreeKey& k) {  // the bits cacheSlot drops
+    return kKnown | (uint64_t(k[0] >> 8) << 32) | (uint64_t(k[1] >> 8) << 40) | (uint64_t(k[2] >> 4) << 48);
   }
-  /// Records where leaf k stands after a write that left it at value `log_odds`.
-  void noteLeaf(const octomap::OcTreeKey& k, float log_odds) {
-    uint64_t& s = clampSlot(k);
-    if (log_odds <= tree.getClampingThresMinLog()) {
-      s = clampTag(k, false);
-    } else if (log_odds >= tree.getClampingThresMaxLog()) {
-      s = clampTag(k, true);
-    } else if ((s & ~(uint64_t(1) << 62)) == clampTag(k, false)) {
-      s = 0;
+  static uint64_t valueBits(float v) {
+    uint32_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  }
+  static float bitsValue(uint64_t word) {
+    const uint32_t b = uint32_t(word);
+    float v = 0.0f;
+    std::memcpy(&v, &b, sizeof v);
+    return v;
+  }
+  void forgetCache() { std::fill(cache.begin(), cache.end(), CacheSlot{}); }
+  void forgetLeafAddresses() {
+    for (auto& c : cache) c.leaf = nullptr;
+  }
+  /// The log-odds of leaf k (false when no node covers it), from the cache or a tree search.
+  bool leafValue(const octomap::OcTreeKey& k, float* log_odds) {
+    CacheSlot& c = cache[cacheSlot(k)];
+    const uint64_t tag = cacheTag(k);
+    if ((c.word & kTagMask) != tag) {
+      const octomap::OcTreeNode* n = tree.search(k);
+      c.word = n ? (tag | valueBits(n->getLogOdds())) : (tag | kAbsent);
+      c.leaf = nullptr;  // search may stop at a pruned node: not this leaf's own
     }
+    *log_odds = bitsValue(c.word);
+    return (c.word & kAbsent) == 0;
   }
-  /// A hit or miss on leaf k, skipped when it cannot change anything.
-  void updateLeaf(const octomap::OcTreeKey& k, bool hit) {
-    if (clampSlot(k) == clampTag(k, hit)) return;
-    // Lazy: the inner nodes above the leaf are neither re-derived nor pruned. Every reader
-    // works on leaves (a search by key descends to the leaf, or to a pruned node whose value
-    // its children all had), so the map answers the same; the tree just stays unpruned.
-    const octomap::OcTreeNode* n = tree.updateNode(k, hit, /*lazy_eval=*/true);
-    if (n) {
-      noteLeaf(k, n->getLogOdds());
+  /// Sets leaf k to `log_odds` (within the clamping bounds), as OctoMap's lazy setNodeValue
+  /// would. `known` / `before`: what leafValue said about it.
+  void writeLeaf(const octomap::OcTreeKey& k, bool known, float before, float log_odds) {
+    CacheSlot& c = cache[cacheSlot(k)];
+    octomap::OcTreeNode* leaf = c.leaf;
+    if (leaf && known) {
+      const float thres = tree.getOccupancyThresLog();
+      leaf->setLogOdds(log_odds);
+      if ((before >= thres) != (log_odds >= thres)) flipped_columns.emplace_back(k[0], k[1]);
     } else {
-      clampSlot(k) = 0;
+      // Lazy: the inner nodes above the leaf are neither re-derived nor pruned. Every reader
+      // works on leaves (a search by key descends to the leaf, or to a pruned node whose value
+      // its children all had), so the map answers the same; the tree just stays unpruned.
+      leaf = tree.setNodeValue(k, log_odds, /*lazy_eval=*/true);
     }
+    c.word = cacheTag(k) | valueBits(log_odds);
+    c.leaf = leaf;
+  }
+  /// A hit or miss on leaf k: the same leaf value as OctoMap's updateNode (a new leaf starts
+  /// at 0, the update is added and clamped). Skipped when the leaf already sits at the bound
+  /// the update pushes it to.
+  void updateLeaf(const octomap::OcTreeKey& k, bool hit) {
+    float v = 0.0f;
+    const bool exists = leafValue(k, &v);
+    const float lo = tree.getClampingThresMinLog(), hi = tree.getClampingThresMaxLog();
+    const float u = hit ? tree.getProbHitLog() : tree.getProbMissLog();
+    if (exists && ((u >= 0.0f && v >= hi) || (u <= 0.0f && v <= lo))) return;
+    float next = v;  // OcTreeNode::addValue, then OctoMap's clamping
+    next += u;
+    next = std::min(std::max(next, lo), hi);
+    writeLeaf(k, exists, v, next);
   }
   /// The lazy updates leave subtrees whose leaves all agree unpruned: the tree is pruned
   /// whenever it has grown by half since the last pruning (amortised O(1) per node; the tree
@@ -165,8 +263,12 @@ struct EsdfMap::Impl {
   std::size_t pruned_size = 0;
   void pruneIfGrown() {
     if (tree.size() <= kPruneMinNodes || tree.size() <= pruned_size + pruned_size / 2) return;
+    prune();
+  }
+  void prune() {
     tree.prune();
     pruned_size = tree.size();
+    forgetLeafAddresses();
   }
   static constexpr std::size_t kPruneMinNodes = 4096;
   std::vector<std::pair<octomap::key_type, octomap::key_type>> dirty_columns;
@@ -191,13 +293,15 @@ struct EsdfMap::Impl {
       dirty_columns.emplace_back(k[0], k[1]);
     }
     tree.resetChangeDetection();
+    dirty_columns.insert(dirty_columns.end(), flipped_columns.begin(), flipped_columns.end());
+    flipped_columns.clear();
     std::sort(dirty_columns.begin(), dirty_columns.end());
     dirty_columns.erase(std::unique(dirty_columns.begin(), dirty_columns.end()), dirty_columns.end());
     for (const auto& [kx, ky] : dirty_columns) {
       bool occ = false;
       for (octomap::key_type kz = band_key_min; kz <= band_key_max && !occ; ++kz) {
-        const auto* n = tree.search(octomap::OcTreeKey(kx, ky, kz));
-        occ = n && tree.isNodeOccupied(n);
+        float v = 0.0f;
+        occ = leafValue(octomap::OcTreeKey(kx, ky, kz), &v) && v >= tree.getOccupancyThresLog();
       }
       const octomap::OcTreeKey fk(kx, ky, band_key_min);
       const auto* existing = flat.search(fk);
@@ -389,7 +493,8 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (skipped) *skipped += bad;
     if (cloud.size() == 0) return InsertStatus::kEmpty;
     m.tree.insertPointCloud(cloud, o, range, /*lazy_eval=*/false, /*discretize=*/true);
-    std::fill(m.clamped.begin(), m.clamped.end(), 0);  // unknown which leaves changed
+    m.forgetCache();  // unknown which leaves changed; insertPointCloud prunes
+    m.forgetLeafAddresses();
     return InsertStatus::kOk;
   }
   // The same update as OctoMap's discretised insertPointCloud, restricted to the height band:
@@ -438,14 +543,12 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   const int kz0 = int(t.coordToKey(z_lo)) - 1, kz1 = int(t.coordToKey(z_hi)) + 1;
   const int side = 2 * H + 1, nz = std::max(1, kz1 - kz0 + 1);
   const std::size_t cells = std::size_t(side) * std::size_t(side) * std::size_t(nz);
-  if (m.stamp_free.size() < cells) {
-    m.stamp_free.assign(cells, 0);
-    m.stamp_occupied.assign(cells, 0);
+  if (m.stamp.size() < cells) {
+    m.stamp.assign(cells, 0);
     m.stamp_gen = 0;
   }
-  if (++m.stamp_gen == 0) {  // wrapped: start over
-    std::fill(m.stamp_free.begin(), m.stamp_free.end(), 0);
-    std::fill(m.stamp_occupied.begin(), m.stamp_occupied.end(), 0);
+  if (++m.stamp_gen >= (uint32_t(1) << 31)) {  // wrapped: start over
+    std::fill(m.stamp.begin(), m.stamp.end(), 0);
     m.stamp_gen = 1;
   }
   const uint32_t gen = m.stamp_gen;
@@ -475,23 +578,22 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (!occ) continue;
     occupied_cells.push_back(packed);  // sorted and unique: a subset of the endpoints
     const long i = local(unpack(packed));
-    if (i >= 0) m.stamp_occupied[std::size_t(i)] = gen;
+    if (i >= 0) m.stamp[std::size_t(i)] = (gen << 1) | 1u;
   }
-  octomap::KeyRay ray;
   for (const uint64_t packed : endpoints) {
     bool occ = false;
     const octomap::point3d trace_to = rayEnd(unpack(packed), &occ);
-    if (!t.computeRayKeys(o, trace_to, ray)) continue;
-    for (const auto& c : ray) {
+    traceRayKeys(t, o, trace_to, [&](const octomap::OcTreeKey& c) {
       const long i = local(c);
       if (i < 0) {
         free_outside.push_back(pack(c));  // outside the grid (origin outside the slab): below
-        continue;
+        return;
       }
-      if (m.stamp_occupied[std::size_t(i)] == gen || m.stamp_free[std::size_t(i)] == gen) continue;
-      m.stamp_free[std::size_t(i)] = gen;
+      uint32_t& st = m.stamp[std::size_t(i)];
+      if ((st >> 1) == gen) return;  // updated already (free) or to be (occupied)
+      st = gen << 1;
       m.updateLeaf(c, false);
-    }
+    });
   }
   std::sort(free_outside.begin(), free_outside.end());
   free_outside.erase(std::unique(free_outside.begin(), free_outside.end()), free_outside.end());
@@ -507,11 +609,13 @@ void EsdfMap::setCell(const Eigen::Vector3d& p, bool occupied) {
   octomap::OcTreeKey key;
   if (!impl_->tree.coordToKeyChecked(octomap::point3d(float(p.x()), float(p.y()), float(p.z())), key)) return;
   auto& t = impl_->tree;
-  // Setting a leaf to the bound it already holds changes nothing (see Impl::clamped).
-  if (impl_->clampSlot(key) == Impl::clampTag(key, occupied)) return;
   const float v = occupied ? t.getClampingThresMaxLog() : t.getClampingThresMinLog();
-  t.setNodeValue(key, v);
-  impl_->noteLeaf(key, v);
+  // Setting a leaf to the value it already holds changes nothing (see Impl::cache).
+  float now = 0.0f;
+  const bool known = impl_->leafValue(key, &now);
+  if (known && now == v) return;
+  impl_->writeLeaf(key, known, now, v);
+  impl_->pruneIfGrown();
 }
 
 void EsdfMap::addCylinder(double x, double y, double radius, bool occupied,
@@ -615,8 +719,7 @@ const MapParams& EsdfMap::params() const { return impl_->params; }
 std::size_t EsdfMap::treeNodeCount() const { return impl_->tree.size(); }
 
 void EsdfMap::pruneTree() {
-  impl_->tree.prune();
-  impl_->pruned_size = impl_->tree.size();
+  impl_->prune();
 }
 
 std::size_t EsdfMap::occupiedLeafCount() const {
@@ -625,6 +728,19 @@ std::size_t EsdfMap::occupiedLeafCount() const {
     if (impl_->tree.isNodeOccupied(*it)) n += std::size_t(1) << (3 * (impl_->tree.getTreeDepth() - it.getDepth()));
   }
   return n;
+}
+
+bool EsdfMap::rayKeysMatchOctomap(const Eigen::Vector3f& origin, const Eigen::Vector3f& end,
+                                  std::size_t* cells) const {
+  const octomap::point3d o(origin.x(), origin.y(), origin.z()), e(end.x(), end.y(), end.z());
+  octomap::KeyRay ray;
+  const bool ok_octomap = impl_->tree.computeRayKeys(o, e, ray);
+  std::vector<octomap::OcTreeKey> mine;
+  const bool ok_mine = traceRayKeys(impl_->tree, o, e, [&](const octomap::OcTreeKey& k) { mine.push_back(k); });
+  if (cells) *cells = mine.size();
+  if (ok_octomap != ok_mine) return false;
+  if (!ok_octomap) return true;
+  return std::equal(ray.begin(), ray.end(), mine.begin(), mine.end());
 }
 
 }  // namespace ucon::planner

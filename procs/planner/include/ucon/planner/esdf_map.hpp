@@ -129,6 +129,11 @@ class EsdfMap {
   /// answers do not change. Insertion prunes by itself whenever the tree has grown by half.
   void pruneTree();
   const MapParams& params() const;
+  /// Test hook: whether the insertion's ray traversal visits exactly the cells OctoMap's
+  /// computeRayKeys lists for the ray origin -> end [m], in the same order; `cells` gets how
+  /// many that is.
+  bool rayKeysMatchOctomap(const Eigen::Vector3f& origin, const Eigen::Vector3f& end,
+                           std::size_t* cells = nullptr) const;
 
  private:
   struct Impl;
