@@ -312,7 +312,26 @@ void World::cellRange(double x0, double y0, double x1, double y1, int* cx0, int*
   *cy1 = cell((y1 - gy0_) * inv_cell_, ny_);
 }
 
-ObstacleState World::moverState(std::size_t i, double t) const {
+std::size_t World::segmentAfter(const std::vector<TimelineSegment>& tl, double t, std::size_t* hint) {
+  // The index of the first piece starting after t (std::upper_bound on t0). Time mostly
+  // moves forward in small steps, so the last answer or the next one is checked first.
+  const auto answers = [&](std::size_t h) {
+    return h <= tl.size() && (h == 0 || tl[h - 1].t0 <= t) && (h == tl.size() || t < tl[h].t0);
+  };
+  if (hint) {
+    if (answers(*hint)) return *hint;
+    if (answers(*hint + 1)) return ++*hint;
+  }
+  const auto it = std::upper_bound(tl.begin(), tl.end(), t,
+                                   [](double tv, const TimelineSegment& sg) { return tv < sg.t0; });
+  const std::size_t idx = std::size_t(it - tl.begin());
+  if (hint) *hint = idx;
+  return idx;
+}
+
+ObstacleState World::moverState(std::size_t i, double t) const { return moverState(i, t, nullptr); }
+
+ObstacleState World::moverState(std::size_t i, double t, std::size_t* segment_hint) const {
   const MovingObstacle& m = scenario_.movers[i];
   const MotionParams& p = m.motion;
   ObstacleState s;
@@ -351,12 +370,11 @@ ObstacleState World::moverState(std::size_t i, double t) const {
       break;
     case MotionKind::kPedestrian: {
       const auto& tl = timelines_[i];
-      auto it = std::upper_bound(tl.begin(), tl.end(), t,
-                                 [](double tv, const TimelineSegment& sg) { return tv < sg.t0; });
-      const TimelineSegment& sg = it == tl.begin() ? tl.front() : *(it - 1);
+      const std::size_t idx = segmentAfter(tl, t, segment_hint);
+      const TimelineSegment& sg = idx == 0 ? tl.front() : tl[idx - 1];
       s.position = sg.p0 + sg.v * (t - sg.t0);
       s.velocity = sg.v;
-      if (it == tl.end()) s.velocity.setZero();
+      if (idx == tl.size()) s.velocity.setZero();
       return s;
     }
   }
@@ -375,23 +393,36 @@ void World::moverStates(double t, std::vector<ObstacleState>& out) const {
 
 void World::setTime(double t) {
   time_ = t;
-  moverStates(t, states_);
+  const std::size_t n = scenario_.movers.size();
+  states_.resize(n);
+  segment_hints_.resize(n, 0);
+  for (std::size_t i = 0; i < n; ++i) states_[i] = moverState(i, t, &segment_hints_[i]);
+  // The movers' cell ranges; the grid is rebuilt only when one of them changed (a mover
+  // moves about a millimetre between two packets and crosses a cell border rarely).
+  bool same = mover_ranges_.size() == n;
+  mover_ranges_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const ObstacleState& s = states_[i];
+    std::array<int, 4> r;
+    cellRange(s.position.x() - s.radius, s.position.y() - s.radius, s.position.x() + s.radius,
+              s.position.y() + s.radius, &r[0], &r[1], &r[2], &r[3]);
+    same = same && r == mover_ranges_[i];
+    mover_ranges_[i] = r;
+  }
+  if (same) return;
   const int ncell = nx_ * ny_;
   std::fill(mover_start_.begin(), mover_start_.end(), 0);
   // Two passes over the movers' cell ranges: count, then fill (CSR layout).
-  auto forCells = [&](const ObstacleState& s, auto&& fn) {
-    int cx0, cy0, cx1, cy1;
-    cellRange(s.position.x() - s.radius, s.position.y() - s.radius, s.position.x() + s.radius,
-              s.position.y() + s.radius, &cx0, &cy0, &cx1, &cy1);
-    for (int cy = cy0; cy <= cy1; ++cy)
-      for (int cx = cx0; cx <= cx1; ++cx) fn(cellIndex(cx, cy));
+  auto forCells = [&](std::size_t i, auto&& fn) {
+    const std::array<int, 4>& r = mover_ranges_[i];
+    for (int cy = r[1]; cy <= r[3]; ++cy)
+      for (int cx = r[0]; cx <= r[2]; ++cx) fn(cellIndex(cx, cy));
   };
-  for (const auto& s : states_) forCells(s, [&](int c) { ++mover_start_[c + 1]; });
+  for (std::size_t i = 0; i < n; ++i) forCells(i, [&](int c) { ++mover_start_[c + 1]; });
   for (int c = 0; c < ncell; ++c) mover_start_[c + 1] += mover_start_[c];
   mover_items_.resize(mover_start_[ncell]);
   std::copy(mover_start_.begin(), mover_start_.end() - 1, mover_fill_.begin());
-  for (std::size_t i = 0; i < states_.size(); ++i)
-    forCells(states_[i], [&](int c) { mover_items_[mover_fill_[c]++] = static_cast<int>(i); });
+  for (std::size_t i = 0; i < n; ++i) forCells(i, [&](int c) { mover_items_[mover_fill_[c]++] = static_cast<int>(i); });
 }
 
 bool World::rayStatic(std::size_t i, const Vec3& o, const Vec3& d, double* t, Vec3* n) const {

@@ -14,6 +14,7 @@
 /// re-binned by setTime()). Moving obstacles do not interact with each other or with static
 /// obstacles (as in the paper's benchmark world, they pass through each other).
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -124,6 +125,9 @@ class World {
                  int* cy1) const;
   bool rayStatic(std::size_t i, const Vec3& o, const Vec3& d, double* t, Vec3* n) const;
   bool rayMover(std::size_t i, const Vec3& o, const Vec3& d, double* t, Vec3* n) const;
+  /// moverState with a per-mover hint of the pedestrian timeline piece (updated; null: none).
+  ObstacleState moverState(std::size_t i, double t, std::size_t* segment_hint) const;
+  static std::size_t segmentAfter(const std::vector<TimelineSegment>& tl, double t, std::size_t* hint);
 
   Scenario scenario_;
   Options options_;
@@ -137,6 +141,8 @@ class World {
   int nx_ = 1, ny_ = 1;
   std::vector<int> static_start_, static_items_;
   std::vector<int> mover_start_, mover_items_, mover_fill_;
+  std::vector<std::array<int, 4>> mover_ranges_;  // cells (x0, y0, x1, y1) of each mover in the grid
+  std::vector<std::size_t> segment_hints_;        // per mover: setTime's last timeline answer
 
   double time_ = 0.0;
   std::vector<ObstacleState> states_;
