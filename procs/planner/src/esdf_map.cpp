@@ -166,8 +166,8 @@ struct EsdfMap::Impl {
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
-  std::vector<uint32_t> stamp;  // ... its per-cell dedup stamps: insertion number << 1 | occupied
-  uint32_t stamp_gen = 0;
+  std::vector<uint16_t> stamp;  // ... its per-cell dedup stamps: insertion number << 1 | occupied
+  uint16_t stamp_gen = 0;
   /// Log-odds of leaves on a rolling grid (slot -> tagged key; 0 = nothing known), so that the
   /// insertion and the projection rarely search the tree. A tag with kAbsent set records that
   /// no leaf (and no pruned node) covers the key. Exact: every write to the tree goes through
@@ -184,13 +184,11 @@ struct EsdfMap::Impl {
   static constexpr std::size_t kCacheSlots = std::size_t(1) << 20;
   static constexpr uint64_t kKnown = uint64_t(1) << 63, kAbsent = uint64_t(1) << 62;
   static constexpr uint64_t kTagMask = ~uint64_t(0xffffffffu) & ~kAbsent;
-  /// One slot: the key bits its index does not hold, the flags and the value in one word, and
-  /// the leaf's address (16 bytes: one cache line per lookup).
-  struct CacheSlot {
-    uint64_t word = 0;  // kKnown | kAbsent? | key's high bits << 32 | value's bits
-    octomap::OcTreeNode* leaf = nullptr;
-  };
-  std::vector<CacheSlot> cache = std::vector<CacheSlot>(kCacheSlots);
+  /// A slot's word: kKnown | kAbsent? | the key's bits its index does not hold << 32 | the
+  /// value's bits. The leaf addresses sit apart (read only to write a leaf): lookups, most of
+  /// them misses on leaves at a bound, touch 8 bytes per slot.
+  std::vector<uint64_t> cache = std::vector<uint64_t>(kCacheSlots, 0);
+  std::vector<octomap::OcTreeNode*> cache_leaf = std::vector<octomap::OcTreeNode*>(kCacheSlots, nullptr);
   std::vector<std::pair<octomap::key_type, octomap::key_type>> flipped_columns;
   static std::size_t cacheSlot(const octomap::OcTreeKey& k) {
     return (std::size_t(k[0] & 255) << 12) | (std::size_t(k[1] & 255) << 4) | std::size_t(k[2] & 15);
@@ -209,27 +207,26 @@ struct EsdfMap::Impl {
     std::memcpy(&v, &b, sizeof v);
     return v;
   }
-  void forgetCache() { std::fill(cache.begin(), cache.end(), CacheSlot{}); }
-  void forgetLeafAddresses() {
-    for (auto& c : cache) c.leaf = nullptr;
-  }
+  void forgetCache() { std::fill(cache.begin(), cache.end(), 0); }
+  void forgetLeafAddresses() { std::fill(cache_leaf.begin(), cache_leaf.end(), nullptr); }
   /// The log-odds of leaf k (false when no node covers it), from the cache or a tree search.
   bool leafValue(const octomap::OcTreeKey& k, float* log_odds) {
-    CacheSlot& c = cache[cacheSlot(k)];
+    const std::size_t s = cacheSlot(k);
+    uint64_t& word = cache[s];
     const uint64_t tag = cacheTag(k);
-    if ((c.word & kTagMask) != tag) {
+    if ((word & kTagMask) != tag) {
       const octomap::OcTreeNode* n = tree.search(k);
-      c.word = n ? (tag | valueBits(n->getLogOdds())) : (tag | kAbsent);
-      c.leaf = nullptr;  // search may stop at a pruned node: not this leaf's own
+      word = n ? (tag | valueBits(n->getLogOdds())) : (tag | kAbsent);
+      cache_leaf[s] = nullptr;  // search may stop at a pruned node: not this leaf's own
     }
-    *log_odds = bitsValue(c.word);
-    return (c.word & kAbsent) == 0;
+    *log_odds = bitsValue(word);
+    return (word & kAbsent) == 0;
   }
   /// Sets leaf k to `log_odds` (within the clamping bounds), as OctoMap's lazy setNodeValue
   /// would. `known` / `before`: what leafValue said about it.
   void writeLeaf(const octomap::OcTreeKey& k, bool known, float before, float log_odds) {
-    CacheSlot& c = cache[cacheSlot(k)];
-    octomap::OcTreeNode* leaf = c.leaf;
+    const std::size_t s = cacheSlot(k);
+    octomap::OcTreeNode* leaf = cache_leaf[s];
     if (leaf && known) {
       const float thres = tree.getOccupancyThresLog();
       leaf->setLogOdds(log_odds);
@@ -240,8 +237,8 @@ struct EsdfMap::Impl {
       // its children all had), so the map answers the same; the tree just stays unpruned.
       leaf = tree.setNodeValue(k, log_odds, /*lazy_eval=*/true);
     }
-    c.word = cacheTag(k) | valueBits(log_odds);
-    c.leaf = leaf;
+    cache[s] = cacheTag(k) | valueBits(log_odds);
+    cache_leaf[s] = leaf;
   }
   /// A hit or miss on leaf k: the same leaf value as OctoMap's updateNode (a new leaf starts
   /// at 0, the update is added and clamped). Skipped when the leaf already sits at the bound
@@ -392,9 +389,49 @@ struct EsdfMap::Impl {
     for (int iy = y0; iy <= y1; ++iy)
       for (int ix = x0; ix <= x1; ++ix)
         if (dirty[std::size_t(iy) * nx + ix]) sliceCell(ix, iy, half, cap);
-    // Interior distances of the dirty cells need the free cells up to r beyond them.
-    computeInterior(std::max(0, x0 - r), std::max(0, y0 - r), std::min(nx, x1 + r + 1), std::min(ny, y1 + r + 1),
-                    &dirty);
+    // Interior distances of the dirty cells: the nearest free cell by a search outwards.
+    interiorNear(x0, y0, x1, y1);
+  }
+
+  /// Offsets (dx, dy) within the interior search radius, by increasing dx^2 + dy^2.
+  struct RingOffset {
+    int dx, dy, d2;
+  };
+  std::vector<RingOffset> ring;
+  int ring_radius = -1;
+  /// The interior distance of every occupied dirty cell in [x0, x1] x [y0, y1]: the same value
+  /// computeInterior gives (minus the distance to the nearest free cell of the slice, less half
+  /// a cell, capped), found by trying the cells around it nearest first. Obstacles are thin
+  /// shells of surface hits, so a free cell is most often a neighbour. A cell with no free cell
+  /// within R = (cap + half a cell) / resolution + 1 cells gets -cap, as it does there.
+  void interiorNear(int x0, int y0, int x1, int y1) {
+    const int nx = slice.nx, ny = slice.ny;
+    const float res = float(slice.resolution);
+    const float half = 0.5f * res;
+    const float cap = float(params.max_distance);
+    const int R = int(std::ceil((params.max_distance + 0.5 * slice.resolution) / slice.resolution)) + 1;
+    if (R != ring_radius) {
+      ring.clear();
+      for (int dy = -R; dy <= R; ++dy)
+        for (int dx = -R; dx <= R; ++dx)
+          if (dx * dx + dy * dy <= R * R) ring.push_back({dx, dy, dx * dx + dy * dy});
+      std::stable_sort(ring.begin(), ring.end(), [](const RingOffset& a, const RingOffset& b) { return a.d2 < b.d2; });
+      ring_radius = R;
+    }
+    for (int iy = y0; iy <= y1; ++iy)
+      for (int ix = x0; ix <= x1; ++ix) {
+        const std::size_t i = std::size_t(iy) * nx + ix;
+        if (!dirty[i] || !occupied[i]) continue;
+        float v = -cap;
+        for (const RingOffset& o : ring) {
+          const int qx = ix + o.dx, qy = iy + o.dy;
+          if (qx < 0 || qy < 0 || qx >= nx || qy >= ny || occupied[std::size_t(qy) * nx + qx]) continue;
+          const float din = std::sqrt(float(o.d2)) * res;
+          v = -std::min(cap, din - half);
+          break;
+        }
+        values[i] = v;
+      }
   }
 
   /// The slice recomputed in full from the distance transform, compared value for value with
@@ -547,11 +584,11 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     m.stamp.assign(cells, 0);
     m.stamp_gen = 0;
   }
-  if (++m.stamp_gen >= (uint32_t(1) << 31)) {  // wrapped: start over
+  if (++m.stamp_gen >= (1u << 15)) {  // wrapped: start over
     std::fill(m.stamp.begin(), m.stamp.end(), 0);
     m.stamp_gen = 1;
   }
-  const uint32_t gen = m.stamp_gen;
+  const unsigned gen = m.stamp_gen;
   const auto local = [&](const octomap::OcTreeKey& c) -> long {
     const int x = int(c[0]) - int(ok[0]) + H, y = int(c[1]) - int(ok[1]) + H, z = int(c[2]) - kz0;
     if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= nz) return -1;
@@ -578,7 +615,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (!occ) continue;
     occupied_cells.push_back(packed);  // sorted and unique: a subset of the endpoints
     const long i = local(unpack(packed));
-    if (i >= 0) m.stamp[std::size_t(i)] = (gen << 1) | 1u;
+    if (i >= 0) m.stamp[std::size_t(i)] = uint16_t((gen << 1) | 1u);
   }
   for (const uint64_t packed : endpoints) {
     bool occ = false;
@@ -589,9 +626,9 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
         free_outside.push_back(pack(c));  // outside the grid (origin outside the slab): below
         return;
       }
-      uint32_t& st = m.stamp[std::size_t(i)];
-      if ((st >> 1) == gen) return;  // updated already (free) or to be (occupied)
-      st = gen << 1;
+      uint16_t& st = m.stamp[std::size_t(i)];
+      if (unsigned(st >> 1) == gen) return;  // updated already (free) or to be (occupied)
+      st = uint16_t(gen << 1);
       m.updateLeaf(c, false);
     });
   }
