@@ -495,10 +495,22 @@ RayHit World::castRay(const Vec3& o, const Vec3& d, double max_range) const {
   }
   double t;
   Vec3 n;
+  // Obstacles larger than a cell are listed in several cells: each is intersected once per
+  // ray (the first kTested of them are remembered; the rest are just tested again).
+  constexpr int kTested = 32;
+  int tested[kTested];
+  int num_tested = 0;
+  const auto testedBefore = [&](int code) {
+    for (int j = 0; j < num_tested; ++j)
+      if (tested[j] == code) return true;
+    if (num_tested < kTested) tested[num_tested++] = code;
+    return false;
+  };
   while (true) {
     const int c = cellIndex(cx, cy);
     for (int k = static_start_[c]; k < static_start_[c + 1]; ++k) {
       const int i = static_items_[k];
+      if (testedBefore(i)) continue;
       if (rayStatic(i, o, d, &t, &n) && t < best.range) {
         best.kind = HitKind::kStatic;
         best.range = t;
@@ -509,6 +521,7 @@ RayHit World::castRay(const Vec3& o, const Vec3& d, double max_range) const {
     }
     for (int k = mover_start_[c]; k < mover_start_[c + 1]; ++k) {
       const int i = mover_items_[k];
+      if (testedBefore(~i)) continue;  // movers as ~index: apart from the statics
       if (rayMover(i, o, d, &t, &n) && t < best.range) {
         best.kind = HitKind::kMoving;
         best.range = t;
