@@ -191,7 +191,8 @@ struct EsdfMap::Impl {
   std::vector<octomap::OcTreeNode*> cache_leaf = std::vector<octomap::OcTreeNode*>(kCacheSlots, nullptr);
   std::vector<std::pair<octomap::key_type, octomap::key_type>> flipped_columns;
   static std::size_t cacheSlot(const octomap::OcTreeKey& k) {
-    return (std::size_t(k[0] & 255) << 12) | (std::size_t(k[1] & 255) << 4) | std::size_t(k[2] & 15);
+    // x fastest: a ray's neighbouring cells along x share a cache line.
+    return (std::size_t(k[2] & 15) << 16) | (std::size_t(k[1] & 255) << 8) | std::size_t(k[0] & 255);
   }
   static uint64_t cacheTag(const octomap::OcTreeKey& k) {  // the bits cacheSlot drops
     return kKnown | (uint64_t(k[0] >> 8) << 32) | (uint64_t(k[1] >> 8) << 40) | (uint64_t(k[2] >> 4) << 48);
@@ -592,7 +593,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   const auto local = [&](const octomap::OcTreeKey& c) -> long {
     const int x = int(c[0]) - int(ok[0]) + H, y = int(c[1]) - int(ok[1]) + H, z = int(c[2]) - kz0;
     if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= nz) return -1;
-    return (long(x) * side + y) * nz + z;
+    return (long(z) * side + y) * side + x;  // x fastest, as the cache
   };
   // Ray end of each endpoint leaf (its centre, cut at the range and where it leaves the slab);
   // the endpoints that are hits inside the slab become occupied.
