@@ -82,7 +82,9 @@ class AsyncNode {
   }
   ~AsyncNode() { stop(); }
 
-  // Ends the worker (pending inputs are dropped) and returns its thread's CPU seconds.
+  // Ends the worker and returns its thread's CPU seconds. Inputs still queued are handled
+  // first (their outputs are not delivered): how many the worker had got through when the run
+  // ended depends on timing, and the node's counters, read after the run, must not.
   double stop() {
     if (worker_.joinable()) {
       {
@@ -143,7 +145,7 @@ class AsyncNode {
       {
         std::unique_lock<std::mutex> lk(m_);
         cv_.wait(lk, [&] { return quit_ || !in_.empty(); });
-        if (quit_) break;  // the run ended: pending inputs are not needed
+        if (in_.empty()) break;  // quit, every input pushed handled
         in = std::move(in_.front());
         in_.pop_front();
       }
