@@ -367,7 +367,7 @@ struct EsdfMap::Impl {
       for (int iy = 0; iy < ny; ++iy)
         for (int ix = 0; ix < nx; ++ix) sliceCell(ix, iy, half, cap);
       flat_changed.clear();
-      computeInterior(0, 0, nx, ny, nullptr);
+      computeInterior();
       return;
     }
     if (flat_changed.empty()) return;
@@ -427,8 +427,7 @@ struct EsdfMap::Impl {
         for (const RingOffset& o : ring) {
           const int qx = ix + o.dx, qy = iy + o.dy;
           if (qx < 0 || qy < 0 || qx >= nx || qy >= ny || occupied[std::size_t(qy) * nx + qx]) continue;
-          const float din = std::sqrt(float(o.d2)) * res;
-          v = -std::min(cap, din - half);
+          v = interiorValue(std::sqrt(float(o.d2)) * res, half, cap);
           break;
         }
         values[i] = v;
@@ -451,45 +450,40 @@ struct EsdfMap::Impl {
     return bad;
   }
 
-  /// Inside obstacles: minus the distance to the nearest free cell (so the optimiser has a
-  /// gradient that pushes out of an obstacle instead of a flat zero).
-  /// Window [wx0, wx1) x [wy0, wy1) of the slice; writes the occupied cells of the window
-  /// (only those marked in `only`, if given). A window reaching max_distance + half a cell
-  /// beyond the written cells gives them the same values as the whole slice would.
-  void computeInterior(int wx0, int wy0, int wx1, int wy1, const std::vector<uint8_t>* only) {
-    const int nx = slice.nx;
-    const int wnx = wx1 - wx0, wny = wy1 - wy0;
-    if (wnx <= 0 || wny <= 0) return;
+  /// An occupied cell's value from the distance `din` [m] between its centre and the nearest
+  /// free cell's centre (infinite: none): minus that distance less half a cell, capped.
+  static float interiorValue(float din, float half, float cap) {
+    return std::isfinite(din) ? -std::min(cap, din - half) : -cap;
+  }
+
+  /// Inside obstacles, over the whole slice: minus the distance to the nearest free cell (so
+  /// the optimiser has a gradient that pushes out of an obstacle instead of a flat zero).
+  void computeInterior() {
+    const int nx = slice.nx, ny = slice.ny;
+    if (nx <= 0 || ny <= 0) return;
+    if (std::find(occupied.begin(), occupied.end(), uint8_t(1)) == occupied.end()) return;
     const float half = float(0.5 * slice.resolution);
     const float cap = float(params.max_distance);
     const float inf = std::numeric_limits<float>::infinity();
-    const int m = std::max(wnx, wny);
-    bool any_occupied = false;
-    for (int iy = wy0; iy < wy1 && !any_occupied; ++iy)
-      for (int ix = wx0; ix < wx1 && !any_occupied; ++ix) any_occupied = occupied[std::size_t(iy) * nx + ix] != 0;
-    if (!any_occupied) return;
-    scratch_f.resize(std::size_t(wnx) * wny);
+    const int m = std::max(nx, ny);
+    scratch_f.resize(std::size_t(nx) * ny);
     scratch_col.resize(m);
     scratch_d.resize(m);
     scratch_z.resize(m + 1);
     scratch_v.resize(m);
-    for (int iy = 0; iy < wny; ++iy)
-      for (int ix = 0; ix < wnx; ++ix)
-        scratch_f[std::size_t(iy) * wnx + ix] = occupied[std::size_t(iy + wy0) * nx + ix + wx0] ? inf : 0.0f;
+    for (std::size_t i = 0; i < scratch_f.size(); ++i) scratch_f[i] = occupied[i] ? inf : 0.0f;
     // Columns (along y) then rows (along x).
-    for (int ix = 0; ix < wnx; ++ix) {
-      for (int iy = 0; iy < wny; ++iy) scratch_col[iy] = scratch_f[std::size_t(iy) * wnx + ix];
-      distanceTransform1d(scratch_col.data(), wny, scratch_d.data(), scratch_v.data(), scratch_z.data());
-      for (int iy = 0; iy < wny; ++iy) scratch_f[std::size_t(iy) * wnx + ix] = scratch_d[iy];
+    for (int ix = 0; ix < nx; ++ix) {
+      for (int iy = 0; iy < ny; ++iy) scratch_col[iy] = scratch_f[std::size_t(iy) * nx + ix];
+      distanceTransform1d(scratch_col.data(), ny, scratch_d.data(), scratch_v.data(), scratch_z.data());
+      for (int iy = 0; iy < ny; ++iy) scratch_f[std::size_t(iy) * nx + ix] = scratch_d[iy];
     }
-    for (int iy = 0; iy < wny; ++iy) {
-      float* row = &scratch_f[std::size_t(iy) * wnx];
-      distanceTransform1d(row, wnx, scratch_d.data(), scratch_v.data(), scratch_z.data());
-      for (int ix = 0; ix < wnx; ++ix) {
-        const std::size_t i = std::size_t(iy + wy0) * nx + ix + wx0;
-        if (!occupied[i] || (only && !(*only)[i])) continue;
-        const float din = std::sqrt(scratch_d[ix]) * float(slice.resolution);
-        values[i] = std::isfinite(din) ? -std::min(cap, din - half) : -cap;
+    for (int iy = 0; iy < ny; ++iy) {
+      float* row = &scratch_f[std::size_t(iy) * nx];
+      distanceTransform1d(row, nx, scratch_d.data(), scratch_v.data(), scratch_z.data());
+      for (int ix = 0; ix < nx; ++ix) {
+        const std::size_t i = std::size_t(iy) * nx + ix;
+        if (occupied[i]) values[i] = interiorValue(std::sqrt(scratch_d[ix]) * float(slice.resolution), half, cap);
       }
     }
   }
