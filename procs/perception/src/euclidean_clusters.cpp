@@ -9,7 +9,7 @@ namespace ucon {
 namespace perception {
 
 namespace {
-/// Largest dense cell grid [cells] (16 MB of ints); a sparser cloud looks its cells up by
+/// Largest dense column table [columns] (16 MB of ints); a sparser cloud looks its columns up by
 /// binary search instead.
 constexpr int64_t kDenseLimit = int64_t(1) << 22;
 }  // namespace
@@ -21,6 +21,29 @@ int EuclideanClusterer::findRoot(int c) {
     c = p;
   }
   return c;
+}
+
+void EuclideanClusterer::sortByKey() {
+  // (key, index) pairs are appended in index order, so a stable sort by key alone gives the
+  // order of std::sort on the pairs. Least significant digit first, 8 bits a pass: a frame's
+  // keys need about three passes over about a thousand points.
+  int64_t max_key = 0;
+  for (const auto& e : sorted_) max_key = std::max(max_key, e.first);
+  int passes = 0;
+  while (passes < 8 && (max_key >> (8 * passes)) != 0) ++passes;
+  if (passes > 4 || sorted_.size() < 64) {  // wide keys or few points: a comparison sort is as quick
+    std::sort(sorted_.begin(), sorted_.end());
+    return;
+  }
+  radix_tmp_.resize(sorted_.size());
+  for (int pass = 0; pass < passes; ++pass) {
+    const int shift = 8 * pass;
+    std::size_t count[257] = {0};
+    for (const auto& e : sorted_) ++count[std::size_t((e.first >> shift) & 0xFF) + 1];
+    for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+    for (const auto& e : sorted_) radix_tmp_[count[std::size_t((e.first >> shift) & 0xFF)]++] = e;
+    sorted_.swap(radix_tmp_);
+  }
 }
 
 std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eigen::Vector3f>& points,
@@ -60,7 +83,7 @@ std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eige
     const int64_t key = (axis(p.x(), lo.x(), nx) * ny + axis(p.y(), lo.y(), ny)) * nz + axis(p.z(), lo.z(), nz);
     sorted_.emplace_back(key, static_cast<int>(i));
   }
-  std::sort(sorted_.begin(), sorted_.end());
+  sortByKey();
   cell_begin_.clear();
   cell_key_.clear();
   for (std::size_t k = 0; k < sorted_.size(); ++k) {
@@ -74,28 +97,40 @@ std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eige
   parent_.resize(std::size_t(cells));
   for (int c = 0; c < cells; ++c) parent_[std::size_t(c)] = c;
 
-  const bool dense = nx * ny * nz <= kDenseLimit;
-  if (dense) {
-    if (grid_.size() < std::size_t(nx * ny * nz)) grid_.assign(std::size_t(nx * ny * nz), -1);
-    for (int c = 0; c < cells; ++c) grid_[std::size_t(cell_key_[std::size_t(c)])] = c;
+  // Cells are sorted by key, i.e. by column (x, y) and then z: a column's cells are a run
+  // of the list. A neighbour column is found through a 2-D table of run starts (small enough
+  // to stay in cache, unlike a 3-D grid), then its few cells are scanned for z.
+  const int64_t columns = nx * ny;
+  const bool dense = columns <= kDenseLimit;
+  if (dense && col_begin_.size() < std::size_t(columns)) col_begin_.assign(std::size_t(columns), -1);
+  cell_col_.resize(std::size_t(cells));
+  cell_z_.resize(std::size_t(cells));
+  for (int c = 0; c < cells; ++c) {
+    cell_col_[std::size_t(c)] = cell_key_[std::size_t(c)] / nz;
+    cell_z_[std::size_t(c)] = int(cell_key_[std::size_t(c)] % nz);
   }
-  const auto lookup = [&](int64_t key) -> int {
-    if (dense) return grid_[std::size_t(key)];
-    const auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), key);
-    return it != cell_key_.end() && *it == key ? int(it - cell_key_.begin()) : -1;
+  for (int c = cells - 1; c >= 0; --c)  // backwards: each column keeps its first cell
+    if (dense) col_begin_[std::size_t(cell_col_[std::size_t(c)])] = c;
+  const auto columnStart = [&](int64_t col) -> int {
+    if (dense) return col_begin_[std::size_t(col)];
+    const auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), col * nz);
+    return it != cell_key_.end() && *it / nz == col ? int(it - cell_key_.begin()) : -1;
   };
 
-  // Neighbour cells that can hold a point closer than the tolerance, each pair once, as key
-  // differences.
-  offsets_.clear();
+  // Neighbour columns (dx, dy) that can hold a point closer than the tolerance, each column
+  // pair once (dx > 0, or dx == 0 and dy >= 0), with the largest |dz| that still can.
+  const auto gap = [](int d) { return double(std::max(std::abs(d) - 1, 0)); };
+  col_offsets_.clear();
   for (int dx = 0; dx <= reach; ++dx)
-    for (int dy = -reach; dy <= reach; ++dy)
-      for (int dz = -reach; dz <= reach; ++dz) {
-        if (dx == 0 && (dy < 0 || (dy == 0 && dz <= 0))) continue;
-        const auto gap = [](int d) { return double(std::max(std::abs(d) - 1, 0)); };
+    for (int dy = -reach; dy <= reach; ++dy) {
+      if (dx == 0 && dy < 0) continue;
+      int dz_max = -1;
+      for (int dz = 0; dz <= reach; ++dz) {
         const double g2 = (gap(dx) * gap(dx) + gap(dy) * gap(dy) + gap(dz) * gap(dz)) * s * s;
-        if (g2 < tolerance * tolerance) offsets_.push_back((dx * ny + dy) * nz + dz);
+        if (g2 < tolerance * tolerance) dz_max = dz;
       }
+      if (dz_max >= 0) col_offsets_.push_back({dx * ny + dy, dz_max});
+    }
 
   const auto r2 = static_cast<float>(tolerance * tolerance);
   const auto close = [&](int a, int b) {
@@ -104,22 +139,38 @@ std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eige
     const float dx = p.x() - q.x(), dy = p.y() - q.y(), dz = p.z() - q.z();
     return dx * dx + dy * dy + dz * dz < r2;
   };
+  const auto link = [&](int c, int d) {
+    const int rc = findRoot(c), rd = findRoot(d);
+    if (rc == rd) return;
+    bool linked = false;
+    for (int a = cell_begin_[std::size_t(c)]; a < cell_begin_[std::size_t(c) + 1] && !linked; ++a)
+      for (int b = cell_begin_[std::size_t(d)]; b < cell_begin_[std::size_t(d) + 1] && !linked; ++b)
+        linked = close(sorted_[std::size_t(a)].second, sorted_[std::size_t(b)].second);
+    if (linked) parent_[std::size_t(rc)] = rd;
+  };
   for (int c = 0; c < cells; ++c) {
-    const int64_t key = cell_key_[std::size_t(c)];
-    for (const int64_t o : offsets_) {
-      const int d = lookup(key + o);
-      if (d < 0) continue;
-      const int rc = findRoot(c), rd = findRoot(d);
-      if (rc == rd) continue;
-      bool linked = false;
-      for (int a = cell_begin_[std::size_t(c)]; a < cell_begin_[std::size_t(c) + 1] && !linked; ++a)
-        for (int b = cell_begin_[std::size_t(d)]; b < cell_begin_[std::size_t(d) + 1] && !linked; ++b)
-          linked = close(sorted_[std::size_t(a)].second, sorted_[std::size_t(b)].second);
-      if (linked) parent_[std::size_t(rc)] = rd;
+    const int64_t col = cell_col_[std::size_t(c)];
+    const int z = cell_z_[std::size_t(c)];
+    for (const ColumnOffset& o : col_offsets_) {
+      if (o.d == 0) {
+        // Own column: the cells above this one (those below linked to it already).
+        for (int d = c + 1; d < cells && cell_col_[std::size_t(d)] == col; ++d) {
+          if (cell_z_[std::size_t(d)] - z > o.dz_max) break;
+          link(c, d);
+        }
+        continue;
+      }
+      const int64_t ncol = col + o.d;
+      for (int d = columnStart(ncol); d >= 0 && d < cells && cell_col_[std::size_t(d)] == ncol; ++d) {
+        const int dz = cell_z_[std::size_t(d)] - z;
+        if (dz < -o.dz_max) continue;
+        if (dz > o.dz_max) break;
+        link(c, d);
+      }
     }
   }
   if (dense)
-    for (int c = 0; c < cells; ++c) grid_[std::size_t(cell_key_[std::size_t(c)])] = -1;
+    for (int c = 0; c < cells; ++c) col_begin_[std::size_t(cell_col_[std::size_t(c)])] = -1;
 
   // Groups in order of their lowest point index; each group's indices ascending.
   group_of_root_.assign(std::size_t(cells), -1);

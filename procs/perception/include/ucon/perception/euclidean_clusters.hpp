@@ -7,6 +7,8 @@
 /// The grid's cells have an edge of tolerance / sqrt(3), so every two points of one cell are
 /// within the tolerance: a cell is connected by construction, and only pairs of nearby
 /// cells not yet connected need a point-to-point test, which stops at the first close pair.
+/// Cells are kept as a list sorted by (column, z); a neighbour column is found through a
+/// small 2-D table of where each column's cells start.
 
 #include <cstdint>
 #include <utility>
@@ -31,12 +33,20 @@ class EuclideanClusterer {
 
  private:
   int findRoot(int c);
+  void sortByKey();  // sorted_ by key, ties in index order (stable radix sort)
+  std::vector<std::pair<int64_t, int>> radix_tmp_;
   std::vector<std::pair<int64_t, int>> sorted_;  // (cell key, point index) of finite points, sorted
-  std::vector<int64_t> offsets_;     // key differences of the neighbour cells to test
+  struct ColumnOffset {
+    int64_t d;   // column key difference (dx * ny + dy)
+    int dz_max;  // cells of that column within |dz| <= dz_max can hold a close point
+  };
+  std::vector<ColumnOffset> col_offsets_;  // neighbour columns to test, each column pair once
   std::vector<int> cell_begin_;      // per occupied cell: its range in sorted_ (one extra entry at the end)
   std::vector<int64_t> cell_key_;    // per occupied cell: its key (sorted)
+  std::vector<int64_t> cell_col_;    // per occupied cell: its column key (x * ny + y)
+  std::vector<int> cell_z_;          // per occupied cell: its z cell
   std::vector<int> parent_;          // union-find over occupied cells
-  std::vector<int> grid_;            // dense key -> occupied cell (-1: empty); reset after use
+  std::vector<int> col_begin_;       // dense column key -> its first occupied cell (-1: none); reset after use
   std::vector<int> cell_of_point_;   // per point: its occupied cell (-1: not finite)
   std::vector<int> group_of_root_;   // per union-find root: its group (-1: none yet)
 };
