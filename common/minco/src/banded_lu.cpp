@@ -49,21 +49,27 @@ bool BandedLu::factorise() {
   return true;
 }
 
+// The solves run over all columns of B at once (a step for every column before the next
+// step): each column sees the same operations in the same order as on its own, and the
+// band's entries are loaded once per step instead of once per column.
 void BandedLu::solve(Eigen::Ref<Eigen::MatrixXd> b) const {
   const int ue = lower_ + upper_;
-  for (int c = 0; c < b.cols(); ++c) {
-    auto x = b.col(c);
-    for (int k = 0; k < n_; ++k) {  // forward: L_k^-1 P_k
-      if (pivot_[k] != k) std::swap(x(k), x(pivot_[k]));
-      const int last_row = std::min(n_ - 1, k + lower_);
-      for (int i = k + 1; i <= last_row; ++i)
-        x(i) -= mult_[static_cast<std::size_t>(k) * lower_ + (i - k - 1)] * x(k);
+  const int nc = static_cast<int>(b.cols());
+  for (int k = 0; k < n_; ++k) {  // forward: L_k^-1 P_k
+    if (pivot_[k] != k) b.row(k).swap(b.row(pivot_[k]));
+    const int last_row = std::min(n_ - 1, k + lower_);
+    for (int i = k + 1; i <= last_row; ++i) {
+      const double m = mult_[static_cast<std::size_t>(k) * lower_ + (i - k - 1)];
+      for (int c = 0; c < nc; ++c) b(i, c) -= m * b(k, c);
     }
-    for (int k = n_ - 1; k >= 0; --k) {  // back substitution with U
-      const int last_col = std::min(n_ - 1, k + ue);
-      double s = x(k);
-      for (int j = k + 1; j <= last_col; ++j) s -= band_[index(k, j)] * x(j);
-      x(k) = s / band_[index(k, k)];
+  }
+  for (int k = n_ - 1; k >= 0; --k) {  // back substitution with U
+    const int last_col = std::min(n_ - 1, k + ue);
+    const double d = band_[index(k, k)];
+    for (int c = 0; c < nc; ++c) {
+      double s = b(k, c);
+      for (int j = k + 1; j <= last_col; ++j) s -= band_[index(k, j)] * b(j, c);
+      b(k, c) = s / d;
     }
   }
 }
@@ -71,22 +77,25 @@ void BandedLu::solve(Eigen::Ref<Eigen::MatrixXd> b) const {
 void BandedLu::solveTransposed(Eigen::Ref<Eigen::MatrixXd> b) const {
   // A = M^-1 U with M = L_{n-1}^-1 P_{n-1} ... L_0^-1 P_0, so A^T x = b is U^T y = b, x = M^T y.
   const int ue = lower_ + upper_;
-  for (int c = 0; c < b.cols(); ++c) {
-    auto x = b.col(c);
-    for (int k = 0; k < n_; ++k) {  // forward substitution with U^T
-      const int first = std::max(0, k - ue);
-      double s = x(k);
-      for (int j = first; j < k; ++j) s -= band_[index(j, k)] * x(j);
-      x(k) = s / band_[index(k, k)];
+  const int nc = static_cast<int>(b.cols());
+  for (int k = 0; k < n_; ++k) {  // forward substitution with U^T
+    const int first = std::max(0, k - ue);
+    const double d = band_[index(k, k)];
+    for (int c = 0; c < nc; ++c) {
+      double s = b(k, c);
+      for (int j = first; j < k; ++j) s -= band_[index(j, k)] * b(j, c);
+      b(k, c) = s / d;
     }
-    for (int k = n_ - 1; k >= 0; --k) {  // apply P_k^T L_k^-T in reverse order
-      const int last_row = std::min(n_ - 1, k + lower_);
+  }
+  for (int k = n_ - 1; k >= 0; --k) {  // apply P_k^T L_k^-T in reverse order
+    const int last_row = std::min(n_ - 1, k + lower_);
+    for (int c = 0; c < nc; ++c) {
       double s = 0.0;
       for (int i = k + 1; i <= last_row; ++i)
-        s += mult_[static_cast<std::size_t>(k) * lower_ + (i - k - 1)] * x(i);
-      x(k) -= s;
-      if (pivot_[k] != k) std::swap(x(k), x(pivot_[k]));
+        s += mult_[static_cast<std::size_t>(k) * lower_ + (i - k - 1)] * b(i, c);
+      b(k, c) -= s;
     }
+    if (pivot_[k] != k) b.row(k).swap(b.row(pivot_[k]));
   }
 }
 
