@@ -77,9 +77,14 @@ GuidePath findGuidePath(const EsdfMap& map, const Eigen::Vector2d& start, const 
   const int nx = s.nx;
   const std::size_t n = std::size_t(nx) * s.ny;
   const float inf = std::numeric_limits<float>::infinity();
-  std::vector<float> g(n, inf);
-  std::vector<int> parent(n, -1);
-  std::vector<uint8_t> closed(n, 0);
+  // The search grids are the slice's size (~60 000 cells, half a megabyte together): kept per
+  // thread and refilled, not allocated (and page-faulted in) again for every plan.
+  static thread_local std::vector<float> g;
+  static thread_local std::vector<int> parent;
+  static thread_local std::vector<uint8_t> closed;
+  g.assign(n, inf);
+  parent.assign(n, -1);
+  closed.assign(n, 0);
   using Entry = std::pair<double, int>;  // f, index
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   auto h = [&](int ix, int iy) { return (s.cellCenter(ix, iy) - goal).norm(); };
