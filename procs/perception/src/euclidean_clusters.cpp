@@ -109,12 +109,12 @@ std::vector<std::vector<int>> EuclideanClusterer::cluster(const std::vector<Eige
     cell_col_[std::size_t(c)] = cell_key_[std::size_t(c)] / nz;
     cell_z_[std::size_t(c)] = int(cell_key_[std::size_t(c)] % nz);
   }
-  for (int c = cells - 1; c >= 0; --c)  // backwards: each column keeps its first cell
-    if (dense) col_begin_[std::size_t(cell_col_[std::size_t(c)])] = c;
+  if (dense)
+    for (int c = cells - 1; c >= 0; --c) col_begin_[std::size_t(cell_col_[std::size_t(c)])] = c;  // first cell wins
   const auto columnStart = [&](int64_t col) -> int {
     if (dense) return col_begin_[std::size_t(col)];
-    const auto it = std::lower_bound(cell_key_.begin(), cell_key_.end(), col * nz);
-    return it != cell_key_.end() && *it / nz == col ? int(it - cell_key_.begin()) : -1;
+    const int c = int(std::lower_bound(cell_col_.begin(), cell_col_.end(), col) - cell_col_.begin());
+    return c < cells && cell_col_[std::size_t(c)] == col ? c : -1;
   };
 
   // Neighbour columns (dx, dy) that can hold a point closer than the tolerance, each column

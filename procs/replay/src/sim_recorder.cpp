@@ -242,7 +242,8 @@ class Bus {
     for (const auto& p : due_) publish(p.msg.channel, p.msg.utime, p.msg.data);
   }
 
-  // Stops and joins the workers (pending inputs are dropped); returns their CPU seconds.
+  // Stops and joins the workers (each handles its queued inputs first, their outputs not
+  // delivered: see AsyncNode::stop); returns their CPU seconds.
   double stopWorkers() {
     double cpu = 0.0;
     for (auto& a : async_)
