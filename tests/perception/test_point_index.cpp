@@ -205,3 +205,73 @@ TEST(ProximityIndex, GivenLargeRadiiAndQueriesOutsideTheCloudThenAnswersEqualBru
   EXPECT_FALSE(index.anyWithin(Eigen::Vector3f(1999.0f, 0.0f, 0.0f), 0.5f));
   EXPECT_TRUE(index.anyWithin(Eigen::Vector3f(0.0f, -3000.0f, 4.0f), 1.0f));
 }
+
+TEST(ProximityIndex, GivenRandomAndSceneCloudsThenNearestWithinIsTheBruteForceNearestInsideTheRadius) {
+  // Brute force: the nearest point strictly inside the radius, the lowest index on a tie,
+  // with the squared distance summed as a KD-tree's L2 metric does.
+  const auto brute = [](const Points& pts, const Eigen::Vector3f& q, float r2, float* d2_out) {
+    int best_i = -1;
+    float best = r2;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const float dx = q.x() - pts[i].x(), dy = q.y() - pts[i].y(), dz = q.z() - pts[i].z();
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      if (d2 < best) best = d2, best_i = int(i);
+    }
+    *d2_out = best;
+    return best_i;
+  };
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(-7.0f, 7.0f);
+  int found = 0, none = 0;
+  for (const Points& pts : {randomCloud(2000, 13, 5.0f), sceneCloud(4)}) {
+    PointIndex tree;
+    tree.build(pts);
+    for (const double cell : {0.6, 0.25, 2.0}) {
+      ProximityIndex index;
+      index.build(pts, cell);
+      for (int k = 0; k < 400; ++k) {
+        // Every fourth query sits on a cloud point (a duplicate there makes a tie).
+        const Eigen::Vector3f q = k % 4 == 0 ? pts[std::size_t(k * 13) % pts.size()] : Eigen::Vector3f(u(rng), u(rng), 0.3f * u(rng));
+        for (const float r : {0.1f, 0.6f, 1.5f}) {
+          float want_d2 = 0.0f, got_d2 = -1.0f;
+          const int want = brute(pts, q, r * r, &want_d2);
+          const int got = index.nearestWithin(q, r * r, &got_d2);
+          ASSERT_EQ(got, want) << "cell " << cell << " query " << k << " r " << r;
+          if (want < 0) {
+            ++none;
+            continue;
+          }
+          ++found;
+          EXPECT_EQ(got_d2, want_d2);
+          // The KD-tree's nearest has the same distance (it may name another point on a tie).
+          float tree_d2 = 0.0f;
+          ASSERT_GE(tree.nearest(q, &tree_d2), 0);
+          EXPECT_EQ(tree_d2, got_d2);
+        }
+      }
+    }
+  }
+  EXPECT_GT(found, 1000);  // both answers exercised
+  EXPECT_GT(none, 500);
+}
+
+TEST(ProximityIndex, GivenNearestWithinThenTheBoundIsStrictIndicesAreTheCallersAndBadInputGivesNone) {
+  ProximityIndex index;
+  float d2 = -1.0f;
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f::Zero(), 1.0f, &d2), -1);  // never built
+  // Non-finite points are left out but the others keep their index in the given vector.
+  index.build({Eigen::Vector3f(NAN, 0, 0), Eigen::Vector3f(0.5f, 0, 0), Eigen::Vector3f(0, INFINITY, 0),
+               Eigen::Vector3f(0, 0.5f, 0), Eigen::Vector3f(3, 0, 0)},
+              0.6);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f(0.4f, 0, 0), 1.0f, &d2), 1);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f(2.9f, 0, 0), 1.0f, nullptr), 4);
+  // Points 1 and 3 are both at d^2 = 0.25 from the origin: the lower index wins; the bound is strict.
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f::Zero(), 1.0f, &d2), 1);
+  EXPECT_EQ(d2, 0.25f);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f::Zero(), 0.25f, &d2), -1);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f::Zero(), std::nextafter(0.25f, 1.0f), &d2), 1);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f(NAN, 0, 0), 1.0f, &d2), -1);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f::Zero(), NAN, &d2), -1);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f::Zero(), -1.0f, &d2), -1);
+  EXPECT_EQ(index.nearestWithin(Eigen::Vector3f(50, 50, 50), 1.0f, &d2), -1);  // outside the grid
+}

@@ -18,7 +18,7 @@ TEST(Reassociation, GivenHistoryDisplacedByVelocityThenTheNearbyCurrentPointsAre
   Points P = blob(5.0f, 0.0f);
   const Points now = blob(1.0f, 0.0f);
   P.insert(P.end(), now.begin(), now.end());
-  PointIndex index;
+  ProximityIndex index;
   index.build(P);
   // History 0.5 s old at x = 0.5, moving at +1 m/s: displaced onto x = 1.0.
   HistoricalObject obj{blob(0.5f, 0.0f), {1.0, 0.0, 0.0}, 0.5};
@@ -31,7 +31,7 @@ TEST(Reassociation, GivenHistoryDisplacedByVelocityThenTheNearbyCurrentPointsAre
 
 TEST(Reassociation, GivenNoPointsWithinD0ThenTheObjectIsNotRecovered) {
   Points P = blob(5.0f, 0.0f);
-  PointIndex index;
+  ProximityIndex index;
   index.build(P);
   HistoricalObject obj{blob(0.5f, 0.0f), {1.0, 0.0, 0.0}, 0.5};
   EXPECT_TRUE(reassociate({obj}, index, 0.6, 0.35)[0].empty());
@@ -49,7 +49,7 @@ TEST(Reassociation, GivenExactlyGammaTimesNMatchesThenItFailsAndOneMoreSucceeds)
     Points P;
     for (int i = 0; i < k; ++i) P.push_back(hist[i]);
     P.emplace_back(9.0f, 9.0f, 1.0f);
-    PointIndex index;
+    ProximityIndex index;
     index.build(P);
     // Points farther along the history line are > d0 = 0.01 from the matched ones.
     const auto r = reassociate({{hist, {0, 0, 0}, 0.0}}, index, 0.01, 0.3);
@@ -63,7 +63,7 @@ TEST(Reassociation, GivenExactlyGammaTimesNMatchesThenItFailsAndOneMoreSucceeds)
 
 TEST(Reassociation, GivenTwoObjectsWantingTheSamePointsThenTheFirstKeepsThem) {
   Points P = blob(1.0f, 0.0f);
-  PointIndex index;
+  ProximityIndex index;
   index.build(P);
   HistoricalObject a{blob(1.0f, 0.0f), {0, 0, 0}, 0.0};
   HistoricalObject b{blob(1.0f, 0.05f), {0, 0, 0}, 0.0};
@@ -73,11 +73,11 @@ TEST(Reassociation, GivenTwoObjectsWantingTheSamePointsThenTheFirstKeepsThem) {
 }
 
 TEST(Reassociation, GivenAnEmptyIndexOrBadInputThenNothingIsRecoveredAndNothingCrashes) {
-  PointIndex empty;
+  ProximityIndex empty;
   empty.build({});
   EXPECT_TRUE(reassociate({{blob(0, 0), {0, 0, 0}, 0.1}}, empty, 0.6, 0.35)[0].empty());
   Points P = blob(0.0f, 0.0f);
-  PointIndex index;
+  ProximityIndex index;
   index.build(P);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(reassociate({{blob(0, 0), {nan, 0, 0}, 0.1}}, index, 0.6, 0.35)[0].empty());

@@ -227,7 +227,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
         lost.push_back(static_cast<int>(j));
     }
     if (!lost.empty() && !frame_points_.empty()) {
-      frame_index_.build(frame_points_);  // only frames with a lost track need the KD-tree
+      frame_index_.build(frame_points_, params_.reassociation.d0);  // only frames with a lost track need it
       std::vector<HistoricalObject> objs;
       for (int j : lost) {
         const Track& tr = tracks_[j];

@@ -1,6 +1,7 @@
 // All PCL use of the perception node lives in this file (PCL headers compile slowly). The node
-// clusters with EuclideanClusterer (same groups, faster); PointIndex::clusters stays as the PCL
-// reference it is tested against.
+// clusters with EuclideanClusterer (same groups, faster) and re-associates with
+// ProximityIndex::nearestWithin (same nearest points, no tree to build per frame);
+// PointIndex::clusters and PointIndex::nearest stay as the references they are tested against.
 #include "ucon/perception/point_index.hpp"
 
 #include <pcl/filters/voxel_grid.h>
@@ -131,7 +132,7 @@ int PointIndex::size() const { return impl_->cloud ? static_cast<int>(impl_->clo
 
 int PointIndex::nearest(const Eigen::Vector3f& q, float* dist2) const {
   if (!impl_->tree || !q.allFinite()) return -1;
-  return impl_->tree->nearestOne(q.data(), dist2);  // no allocation per query (re-association)
+  return impl_->tree->nearestOne(q.data(), dist2);  // no allocation per query
 }
 
 std::vector<std::vector<int>> PointIndex::clusters(double tolerance, int min_points,

@@ -6,7 +6,7 @@ namespace ucon {
 namespace perception {
 
 std::vector<std::vector<int>> reassociate(const std::vector<HistoricalObject>& objects,
-                                          const PointIndex& index, double d0, double gamma) {
+                                          const ProximityIndex& index, double d0, double gamma) {
   std::vector<std::vector<int>> result(objects.size());
   if (index.size() == 0) return result;
   std::vector<char> taken(static_cast<std::size_t>(index.size()), 0);
@@ -21,8 +21,8 @@ std::vector<std::vector<int>> reassociate(const std::vector<HistoricalObject>& o
     for (const auto& p : obj.points) {
       float d2 = 0.0f;
       // Querying at p + v tau finds the q that minimises |p + v tau - q| directly.
-      const int q = index.nearest(p + shift, &d2);
-      if (q < 0 || !(d2 < d0_sq)) continue;
+      const int q = index.nearestWithin(p + shift, d0_sq, &d2);
+      if (q < 0) continue;
       ++n;
       p_c.push_back(q);
     }

@@ -207,7 +207,7 @@ class PerceptionNode {
   Points frame_points_;             ///< pre-processed, world frame
   std::vector<char> point_moved_;   ///< per frame point: failed the motion test (moved)
   EuclideanClusterer clusterer_;    ///< clustering with reused scratch buffers
-  PointIndex frame_index_;          ///< KD-tree of frame_points_, built only when re-association runs
+  ProximityIndex frame_index_;      ///< grid over frame_points_ (cells of d0), built only when re-association runs
   std::vector<Detection> last_detections_;
   double last_frame_ms_ = 0.0;
 };

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "ucon/perception/point_index.hpp"
+#include "ucon/perception/proximity_index.hpp"
 
 namespace ucon {
 namespace perception {
@@ -25,8 +26,9 @@ struct HistoricalObject {
 /// is found; p matches when |p + v_c tau - q| < d0, and q joins P_c. The object is
 /// recovered when the number of matches n exceeds gamma N_c (N_c = |T_c|). A point of P
 /// recovered by several objects stays with the first of them (objects in the given order).
+/// `index` is built over P; cells of about d0 keep each query to a few cells.
 std::vector<std::vector<int>> reassociate(const std::vector<HistoricalObject>& objects,
-                                          const PointIndex& index, double d0, double gamma);
+                                          const ProximityIndex& index, double d0, double gamma);
 
 }  // namespace perception
 }  // namespace ucon
