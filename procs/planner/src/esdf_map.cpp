@@ -166,8 +166,7 @@ struct EsdfMap::Impl {
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
-  std::vector<uint16_t> stamp;  // ... its per-cell dedup stamps: insertion number << 1 | occupied
-  uint16_t stamp_gen = 0;
+  std::vector<uint64_t> seen;  // ... its per-cell dedup bits (updated, or occupied: to be), cleared per insertion
   /// Log-odds of leaves on a rolling grid (slot -> tagged key; 0 = nothing known), so that the
   /// insertion and the projection rarely search the tree. A tag with kAbsent set records that
   /// no leaf (and no pruned node) covers the key. Exact: every write to the tree goes through
@@ -210,15 +209,34 @@ struct EsdfMap::Impl {
   }
   void forgetCache() { std::fill(cache.begin(), cache.end(), 0); }
   void forgetLeafAddresses() { std::fill(cache_leaf.begin(), cache_leaf.end(), nullptr); }
+  /// The node OcTree::search(k) returns (the leaf of k, or a pruned node covering it; null
+  /// when none covers it), by the same descent; `own` says whether it is k's own leaf at full
+  /// depth, which a write may then set in place.
+  octomap::OcTreeNode* findNode(const octomap::OcTreeKey& k, bool* own) const {
+    *own = false;
+    octomap::OcTreeNode* node = tree.getRoot();
+    if (node == nullptr) return nullptr;
+    for (int depth = int(tree.getTreeDepth()) - 1; depth >= 0; --depth) {
+      const unsigned pos = octomap::computeChildIdx(k, depth);
+      if (tree.nodeChildExists(node, pos)) {
+        node = const_cast<octomap::OcTree&>(tree).getNodeChild(node, pos);
+      } else {
+        return tree.nodeHasChildren(node) ? nullptr : node;
+      }
+    }
+    *own = true;
+    return node;
+  }
   /// The log-odds of leaf k (false when no node covers it), from the cache or a tree search.
   bool leafValue(const octomap::OcTreeKey& k, float* log_odds) {
     const std::size_t s = cacheSlot(k);
     uint64_t& word = cache[s];
     const uint64_t tag = cacheTag(k);
     if ((word & kTagMask) != tag) {
-      const octomap::OcTreeNode* n = tree.search(k);
+      bool own = false;
+      octomap::OcTreeNode* n = findNode(k, &own);
       word = n ? (tag | valueBits(n->getLogOdds())) : (tag | kAbsent);
-      cache_leaf[s] = nullptr;  // search may stop at a pruned node: not this leaf's own
+      cache_leaf[s] = own ? n : nullptr;  // a pruned node covering k is not k's own leaf
     }
     *log_odds = bitsValue(word);
     return (word & kAbsent) == 0;
@@ -228,6 +246,11 @@ struct EsdfMap::Impl {
   void writeLeaf(const octomap::OcTreeKey& k, bool known, float before, float log_odds) {
     const std::size_t s = cacheSlot(k);
     octomap::OcTreeNode* leaf = cache_leaf[s];
+    if (!leaf && known) {  // its address was forgotten (pruning): find the leaf if it is k's own
+      bool own = false;
+      octomap::OcTreeNode* n = findNode(k, &own);
+      if (own) leaf = n;
+    }
     if (leaf && known) {
       const float thres = tree.getOccupancyThresLog();
       leaf->setLogOdds(log_odds);
@@ -569,21 +592,15 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   if (skipped) *skipped += bad;
   if (finite == 0) return InsertStatus::kEmpty;
   // Each cell is updated once per insertion (occupied wins over free, as in OctoMap). Cells
-  // are deduplicated on a stamp grid around the origin: no hashing, no sorting.
+  // are deduplicated on a bit grid around the origin: no hashing, no sorting. One bit per
+  // cell (~75 kB for the default range and band) stays in the core's cache, where 16-bit
+  // stamps that spared the clearing did not.
   const octomap::OcTreeKey ok = t.coordToKey(o);
   const int H = int(std::ceil(range / res)) + 2;
   const int kz0 = int(t.coordToKey(z_lo)) - 1, kz1 = int(t.coordToKey(z_hi)) + 1;
   const int side = 2 * H + 1, nz = std::max(1, kz1 - kz0 + 1);
   const std::size_t cells = std::size_t(side) * std::size_t(side) * std::size_t(nz);
-  if (m.stamp.size() < cells) {
-    m.stamp.assign(cells, 0);
-    m.stamp_gen = 0;
-  }
-  if (++m.stamp_gen >= (1u << 15)) {  // wrapped: start over
-    std::fill(m.stamp.begin(), m.stamp.end(), 0);
-    m.stamp_gen = 1;
-  }
-  const unsigned gen = m.stamp_gen;
+  m.seen.assign((cells + 63) / 64, 0);
   const auto local = [&](const octomap::OcTreeKey& c) -> long {
     const int x = int(c[0]) - int(ok[0]) + H, y = int(c[1]) - int(ok[1]) + H, z = int(c[2]) - kz0;
     if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= nz) return -1;
@@ -610,7 +627,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (!occ) continue;
     occupied_cells.push_back(packed);  // sorted and unique: a subset of the endpoints
     const long i = local(unpack(packed));
-    if (i >= 0) m.stamp[std::size_t(i)] = uint16_t((gen << 1) | 1u);
+    if (i >= 0) m.seen[std::size_t(i) >> 6] |= uint64_t(1) << (std::size_t(i) & 63);
   }
   for (const uint64_t packed : endpoints) {
     bool occ = false;
@@ -621,9 +638,10 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
         free_outside.push_back(pack(c));  // outside the grid (origin outside the slab): below
         return;
       }
-      uint16_t& st = m.stamp[std::size_t(i)];
-      if (unsigned(st >> 1) == gen) return;  // updated already (free) or to be (occupied)
-      st = uint16_t(gen << 1);
+      uint64_t& word = m.seen[std::size_t(i) >> 6];
+      const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
+      if (word & bit) return;  // updated already (free) or to be (occupied)
+      word |= bit;
       m.updateLeaf(c, false);
     });
   }
