@@ -39,7 +39,8 @@ double limitCost(const Eigen::Vector2d& x, double limit, double weight, Eigen::V
 }
 
 double dynamicCostCutoff(const OptimizerParams& params) {
-  return std::log(1e6) / params.sector.alpha;
+  static const double kLog1e6 = std::log(1e6);  // once: the cost terms ask for it per sample
+  return kLog1e6 / params.sector.alpha;
 }
 
 double horizonWeight(double t, double horizon, double* dw) {

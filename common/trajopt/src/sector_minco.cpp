@@ -223,9 +223,18 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
     }
     if (t - t_from <= params.check_horizon) {
       const int64_t t_abs = tr.start_utime + static_cast<int64_t>(std::llround(t * 1e6));
+      const double k = params.check_uncertainty_k, cap = params.check_uncertainty_cap;
       for (const auto& o : obstacles) {
         if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-        const double gap = grownBodyGap(o, p, t_abs, params.check_uncertainty_k, params.check_uncertainty_cap);
+        // grownBodyGap, its growth (the position's std, an eigenvalue) only worked out where it
+        // can matter: the gap is at least gap0 - cap (rounding is monotone), so a body that far
+        // cannot lower the minimum, nor fail the check (a minimum below the robot's radius has
+        // failed it already).
+        const double gap0 = predictedBodyGap(o, p, t_abs);
+        if (k > 0.0 && cap > 0.0 && gap0 - cap >= out.min_dynamic_clearance) continue;
+        const double gap = k > 0.0 ? gap0 - (cap > 0.0 ? std::min(k * predictedPositionSigma(o, t_abs), cap)
+                                                       : k * predictedPositionSigma(o, t_abs))
+                                   : gap0;
         out.min_dynamic_clearance = std::min(out.min_dynamic_clearance, gap);
         if (out.status == PlanStatus::kOk && gap < params.robot_radius) {
           out.status = PlanStatus::kDynamicCollision;

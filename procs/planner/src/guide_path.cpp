@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
+#include <functional>
 
 #include "ucon/config.hpp"
 
@@ -86,7 +86,23 @@ GuidePath findGuidePath(const EsdfMap& map, const Eigen::Vector2d& start, const 
   parent.assign(n, -1);
   closed.assign(n, 0);
   using Entry = std::pair<double, int>;  // f, index
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  // The open list: a min-heap (std::priority_queue's operations on a kept vector, so that it
+  // does not grow from nothing every plan).
+  static thread_local std::vector<Entry> open_heap;
+  open_heap.clear();
+  struct Open {
+    std::vector<Entry>& c;
+    bool empty() const { return c.empty(); }
+    const Entry& top() const { return c.front(); }
+    void push(const Entry& e) {
+      c.push_back(e);
+      std::push_heap(c.begin(), c.end(), std::greater<Entry>());
+    }
+    void pop() {
+      std::pop_heap(c.begin(), c.end(), std::greater<Entry>());
+      c.pop_back();
+    }
+  } open{open_heap};
   auto h = [&](int ix, int iy) { return (s.cellCenter(ix, iy) - goal).norm(); };
   const int start_idx = sy * nx + sx;
   g[start_idx] = 0.0f;
