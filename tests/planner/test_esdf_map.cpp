@@ -427,3 +427,65 @@ TEST(EsdfMap, GivenAMapWhenQueriedBetweenCellsThenTheGradientMatchesFiniteDiffer
   // Far from everything: the cap.
   EXPECT_NEAR(map.distance(-3.0, 3.0, nullptr), map.params().max_distance, 1e-6);
 }
+
+TEST(EsdfMap, GivenTwoInsertThreadsThenTheMapEqualsOneThreadsLeafForLeaf) {
+  // The helper traces half of the rays; its cells are applied after the first half's, in the
+  // order one thread would reach them. Scans from inside and above the band (rays entering the
+  // band from outside the insertion's grid), clamping both ways, direct writes in between.
+  MapParams one = smallParams();
+  one.band_only = true;
+  one.insert_threads = 1;
+  MapParams two = one;
+  two.insert_threads = 2;
+  EsdfMap a(one), b(two);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), height(0.0, 0.9), dist(0.5, 4.5);
+  for (int scan = 0; scan < 30; ++scan) {
+    const Eigen::Vector3d origin(0.05 * (scan % 7), -0.04 * (scan % 4), scan % 10 == 9 ? 1.2 : 0.25);
+    const float shrink = scan % 9 < 5 ? 1.0f : 0.6f;
+    std::vector<Eigen::Vector3f> pts;
+    for (int i = 0; i < 500; ++i) {
+      const double az = ang(rng), r = dist(rng);
+      pts.emplace_back(float(origin.x() + shrink * r * std::cos(az)), float(origin.y() + shrink * r * std::sin(az)),
+                       float(height(rng)));
+    }
+    ASSERT_EQ(a.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
+    ASSERT_EQ(b.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
+    if (scan % 6 == 2) {
+      a.addCylinder(-0.6, 0.3, 0.4, false);
+      b.addCylinder(-0.6, 0.3, 0.4, false);
+    }
+    if (scan % 5 == 4) {
+      a.update(Eigen::Vector2d(0, 0));
+      b.update(Eigen::Vector2d(0, 0));
+    }
+  }
+  int occupied = 0;
+  for (int ix = -50; ix <= 50; ++ix)
+    for (int iy = -50; iy <= 50; ++iy)
+      for (double z : {0.15, 0.25, 0.35, 0.55}) {
+        const Eigen::Vector3d q((ix + 0.5) * 0.1, (iy + 0.5) * 0.1, z);
+        ASSERT_EQ(a.isOccupied(q), b.isOccupied(q)) << q.transpose();
+        occupied += a.isOccupied(q);
+      }
+  EXPECT_GT(occupied, 100);
+  EXPECT_EQ(a.occupiedLeafCount(), b.occupiedLeafCount());
+  EXPECT_EQ(a.treeNodeCount(), b.treeNodeCount());
+  a.update(Eigen::Vector2d(0, 0));
+  b.update(Eigen::Vector2d(0, 0));
+  ASSERT_EQ(a.slice().nx, b.slice().nx);
+  for (int iy = 0; iy < a.slice().ny; ++iy)
+    for (int ix = 0; ix < a.slice().nx; ++ix) ASSERT_EQ(a.cellDistance(ix, iy), b.cellDistance(ix, iy));
+  EXPECT_EQ(a.helperCpuSeconds(), 0.0);
+  EXPECT_GT(b.helperCpuSeconds(), 0.0);  // the helper did trace
+}
+
+TEST(EsdfMap, GivenABadInsertThreadCountThenValidateNamesTheKey) {
+  MapParams p;
+  p.insert_threads = 3;
+  EXPECT_EQ(p.validate().rfind("insert_threads:", 0), 0u);
+  p.insert_threads = 0;
+  EXPECT_EQ(p.validate().rfind("insert_threads:", 0), 0u);
+  p.insert_threads = 2;
+  EXPECT_TRUE(p.validate().empty());
+}

@@ -5,12 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <iterator>
 #include <limits>
+#include <mutex>
+#include <thread>
+#include <utility>
 
 #include "ucon/config.hpp"
+#include "ucon/cpu_time.hpp"
 #include "ucon/static_points_t.hpp"
 
 namespace ucon::planner {
@@ -26,6 +32,7 @@ void MapParams::read(ConfigReader& r) {
   r.read("prob_hit", prob_hit, 0.5, 1.0);
   r.read("prob_miss", prob_miss, 0.0, 0.5);
   r.read("band_only", band_only);
+  r.read("insert_threads", insert_threads, 1, 2);
   const std::string why = validate();
   if (!why.empty()) r.fail(why.substr(0, why.find(':')), why.substr(why.find(':') + 2));
 }
@@ -36,6 +43,7 @@ std::string MapParams::validate() const {
   if (!(max_distance > resolution)) return "max_distance: must exceed resolution";
   if (!(recenter_distance < box_half_size)) return "recenter_distance: must be below box_half_size";
   if (!(max_range > 0.0)) return "max_range: must be > 0";
+  if (insert_threads < 1 || insert_threads > 2) return "insert_threads: must be 1 or 2";
   return {};
 }
 
@@ -146,6 +154,73 @@ bool traceRayKeys(const octomap::OcTree& t, const octomap::point3d& origin, cons
   }
 }
 
+/// A thread that runs one job at a time for the insertion: start() hands it a job, wait()
+/// returns once it is done (rethrowing what it threw).
+class InsertHelper {
+ public:
+  InsertHelper() : thread_([this] { run(); }) {}
+  ~InsertHelper() {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      quit_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  InsertHelper(const InsertHelper&) = delete;
+  InsertHelper& operator=(const InsertHelper&) = delete;
+
+  void start(std::function<void()> job) {
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      job_ = std::move(job);
+      busy_ = true;
+    }
+    cv_.notify_all();
+  }
+  void wait() {
+    std::unique_lock<std::mutex> lk(m_);
+    cv_.wait(lk, [&] { return !busy_; });
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  }
+  double cpuSeconds() const {
+    std::lock_guard<std::mutex> lk(m_);
+    return cpu_s_;
+  }
+
+ private:
+  void run() {
+    std::unique_lock<std::mutex> lk(m_);
+    for (;;) {
+      cv_.wait(lk, [&] { return quit_ || busy_; });
+      if (!busy_) return;  // quit with no job pending
+      std::function<void()> job = std::move(job_);
+      lk.unlock();
+      const double cpu0 = threadCpuSeconds();
+      std::exception_ptr error;
+      try {
+        job();
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const double cpu = threadCpuSeconds() - cpu0;
+      lk.lock();
+      cpu_s_ += cpu;
+      error_ = error;
+      busy_ = false;
+      cv_.notify_all();
+    }
+  }
+
+  mutable std::mutex m_;
+  std::condition_variable cv_;
+  std::function<void()> job_;
+  bool busy_ = false, quit_ = false;
+  std::exception_ptr error_;
+  double cpu_s_ = 0.0;
+  std::thread thread_;  // last: started once the members above exist
+};
+
 }  // namespace
 
 struct EsdfMap::Impl {
@@ -166,7 +241,13 @@ struct EsdfMap::Impl {
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
-  std::vector<uint64_t> seen;  // ... its per-cell dedup bits (updated, or occupied: to be), cleared per insertion
+  std::vector<uint64_t> seen;
+  // The helper's share of a two-thread insertion: its own dedup bits, the cells new to its
+  // rays in order, and its cells outside the grid.
+  std::unique_ptr<InsertHelper> helper;
+  std::vector<uint64_t> helper_seen;
+  std::vector<octomap::OcTreeKey> helper_fresh;
+  std::vector<uint64_t> helper_free_outside;  // ... its per-cell dedup bits (updated, or occupied: to be), cleared per insertion
   /// Log-odds of leaves on a rolling grid (slot -> tagged key; 0 = nothing known), so that the
   /// insertion and the projection rarely search the tree. A tag with kAbsent set records that
   /// no leaf (and no pruned node) covers the key. Exact: every write to the tree goes through
@@ -629,21 +710,60 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     const long i = local(unpack(packed));
     if (i >= 0) m.seen[std::size_t(i) >> 6] |= uint64_t(1) << (std::size_t(i) & 63);
   }
-  for (const uint64_t packed : endpoints) {
-    bool occ = false;
-    const octomap::point3d trace_to = rayEnd(unpack(packed), &occ);
-    traceRayKeys(t, o, trace_to, [&](const octomap::OcTreeKey& c) {
+  // Traces the rays of endpoints [from, to): each cell not yet in `seen` is marked there and
+  // handed to fresh(cell); cells outside the grid (origin outside the slab) go to `outside`.
+  const auto trace = [&](std::size_t from, std::size_t to, std::vector<uint64_t>& seen,
+                         std::vector<uint64_t>& outside, auto&& fresh) {
+    for (std::size_t e = from; e < to; ++e) {
+      bool occ = false;
+      const octomap::point3d trace_to = rayEnd(unpack(endpoints[e]), &occ);
+      traceRayKeys(t, o, trace_to, [&](const octomap::OcTreeKey& c) {
+        const long i = local(c);
+        if (i < 0) {
+          outside.push_back(pack(c));  // sorted, deduplicated and applied below
+          return;
+        }
+        uint64_t& word = seen[std::size_t(i) >> 6];
+        const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
+        if (word & bit) return;  // updated already (free) or to be (occupied)
+        word |= bit;
+        fresh(c);
+      });
+    }
+  };
+  const auto update_free = [&](const octomap::OcTreeKey& c) { m.updateLeaf(c, false); };
+  // Two threads: the helper traces the second half of the rays, only gathering the cells new
+  // to them, while this thread traces the first half and applies its cells; then this thread
+  // applies the helper's cells that the first half did not reach, in their order. A cell is
+  // updated at its first ray either way, in the same order as one thread does it: same map.
+  const std::size_t split = m.params.insert_threads > 1 && endpoints.size() >= 64 ? endpoints.size() / 2 : endpoints.size();
+  if (split < endpoints.size()) {
+    if (!m.helper) m.helper = std::make_unique<InsertHelper>();
+    m.helper_seen = m.seen;  // the occupied endpoints are not free cells for it either
+    m.helper_fresh.clear();
+    m.helper_free_outside.clear();
+    m.helper->start([&] {
+      trace(split, endpoints.size(), m.helper_seen, m.helper_free_outside,
+            [&](const octomap::OcTreeKey& c) { m.helper_fresh.push_back(c); });
+    });
+    try {
+      trace(0, split, m.seen, free_outside, update_free);
+    } catch (...) {
+      m.helper->wait();  // never leave the helper running on this insertion's data
+      throw;
+    }
+    m.helper->wait();
+    for (const auto& c : m.helper_fresh) {
       const long i = local(c);
-      if (i < 0) {
-        free_outside.push_back(pack(c));  // outside the grid (origin outside the slab): below
-        return;
-      }
       uint64_t& word = m.seen[std::size_t(i) >> 6];
       const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
-      if (word & bit) return;  // updated already (free) or to be (occupied)
+      if (word & bit) continue;  // the first half's rays reached it first
       word |= bit;
       m.updateLeaf(c, false);
-    });
+    }
+    free_outside.insert(free_outside.end(), m.helper_free_outside.begin(), m.helper_free_outside.end());
+  } else {
+    trace(0, endpoints.size(), m.seen, free_outside, update_free);
   }
   std::sort(free_outside.begin(), free_outside.end());
   free_outside.erase(std::unique(free_outside.begin(), free_outside.end()), free_outside.end());
@@ -721,6 +841,7 @@ bool EsdfMap::update(const Eigen::Vector2d& robot_xy, bool force_rebuild) {
 }
 
 bool EsdfMap::ready() const { return impl_->edt != nullptr; }
+double EsdfMap::helperCpuSeconds() const { return impl_->helper ? impl_->helper->cpuSeconds() : 0.0; }
 
 double EsdfMap::distance(double x, double y, Eigen::Vector2d* grad) const {
   const Impl& m = *impl_;

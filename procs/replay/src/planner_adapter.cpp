@@ -55,6 +55,8 @@ class PlannerAdapter : public NodeAdapter {
     return FeedResult::kHandled;
   }
 
+  double helperCpuSeconds() const override { return node_.map().helperCpuSeconds(); }
+
   std::vector<std::pair<std::string, int64_t>> counters() const override {
     std::vector<std::pair<std::string, int64_t>> c{
         {"inputs", inputs_}, {"plans", plans_}, {"trajectories_out", trajectories_}, {"decode_errors", decode_errors_}};

@@ -98,6 +98,7 @@ class TimedAdapter : public rp::NodeAdapter {
   std::vector<std::string> inputChannels() const override { return inner_->inputChannels(); }
   std::vector<std::string> outputChannels() const override { return inner_->outputChannels(); }
   std::vector<std::pair<std::string, int64_t>> counters() const override { return inner_->counters(); }
+  double helperCpuSeconds() const override { return inner_->helperCpuSeconds(); }
 
   rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
                       std::vector<rp::OutputMessage>* out) override {
@@ -620,6 +621,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     res.static_points = perception_wrap->static_points_;
   }
   res.cpu_s = ucon::threadCpuSeconds() - cpu0 + s.worker_cpu_s;
+  for (const rp::NodeAdapter* n : stage_nodes) res.cpu_s += n->helperCpuSeconds();  // the map's helper thread
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
   for (const auto& [k, n] : stage_nodes[1]->counters()) {

@@ -40,6 +40,10 @@ struct MapParams {
   /// change the band's occupancy, and the rays to the in-band returns clear its free space.
   /// Cuts the ray-insertion work to the share of returns in the band. false = every point.
   bool band_only = false;
+  /// Threads of a band-only insertion, 1 or 2: with 2, a helper thread traces the second
+  /// half of the rays while the caller's thread traces and applies the first; the map is the
+  /// same either way (the updates are applied in the same order).
+  int insert_threads = 1;
 
   void read(ConfigReader& r);
   /// Empty when valid, otherwise "<key>: <why>".
@@ -129,6 +133,8 @@ class EsdfMap {
   /// answers do not change. Insertion prunes by itself whenever the tree has grown by half.
   void pruneTree();
   const MapParams& params() const;
+  /// CPU seconds the insertion's helper thread has used (0 with insert_threads = 1).
+  double helperCpuSeconds() const;
   /// Test hook: whether the insertion's ray traversal visits exactly the cells OctoMap's
   /// computeRayKeys lists for the ray origin -> end [m], in the same order; `cells` gets how
   /// many that is.

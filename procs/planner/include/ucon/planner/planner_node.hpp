@@ -79,6 +79,7 @@ class PlannerNode {
   /// The map (benchmarks build it from known geometry; tests inspect it). Call
   /// notifyMapChanged() after writing to it directly.
   EsdfMap& map() { return map_; }
+  const EsdfMap& map() const { return map_; }
   /// Ray-inserts the static frames gathered so far (tick() does this every
   /// static_insert_period_s; tests and benchmarks may force it).
   void flushStaticPoints();

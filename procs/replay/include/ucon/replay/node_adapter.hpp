@@ -57,6 +57,9 @@ class NodeAdapter {
 
   /// Node counters for a summary (name, value), in a fixed order.
   virtual std::vector<std::pair<std::string, int64_t>> counters() const = 0;
+  /// CPU seconds used so far by threads the node runs besides the one that calls feed()
+  /// (a helper thread of the planner's map insertion); 0 for most nodes. Measurement only.
+  virtual double helperCpuSeconds() const { return 0.0; }
 
   /// True if `channel` is one of inputChannels().
   bool consumes(const std::string& channel) const;
