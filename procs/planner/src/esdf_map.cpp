@@ -332,15 +332,21 @@ struct EsdfMap::Impl {
       octomap::OcTreeNode* n = findNode(k, &own);
       if (own) leaf = n;
     }
+    const float thres = tree.getOccupancyThresLog();
+    const bool flipped = (before >= thres) != (log_odds >= thres);
     if (leaf && known) {
-      const float thres = tree.getOccupancyThresLog();
       leaf->setLogOdds(log_odds);
-      if ((before >= thres) != (log_odds >= thres)) flipped_columns.emplace_back(k[0], k[1]);
+      if (flipped) flipped_columns.emplace_back(k[0], k[1]);
     } else {
       // Lazy: the inner nodes above the leaf are neither re-derived nor pruned. Every reader
       // works on leaves (a search by key descends to the leaf, or to a pruned node whose value
       // its children all had), so the map answers the same; the tree just stays unpruned.
       leaf = tree.setNodeValue(k, log_odds, /*lazy_eval=*/true);
+      // Without OctoMap's change detection (band-only maps: every write comes through here),
+      // the change it would record: a leaf created, or one whose occupancy flipped. Its hash
+      // map allocated a node per new leaf.
+      if (!tree.isChangeDetectionEnabled() && (!known || flipped) && k[2] >= band_key_min && k[2] <= band_key_max)
+        flipped_columns.emplace_back(k[0], k[1]);
     }
     cache[s] = cacheTag(k) | valueBits(log_odds);
     cache_leaf[s] = leaf;
@@ -380,7 +386,9 @@ struct EsdfMap::Impl {
   explicit Impl(const MapParams& p) : params(p), tree(p.resolution), flat(p.resolution) {
     tree.setProbHit(p.prob_hit);
     tree.setProbMiss(p.prob_miss);
-    tree.enableChangeDetection(true);
+    // Band-only maps write every leaf through writeLeaf, which records the changed columns
+    // itself; OctoMap's change detection is needed for its own full insertion only.
+    tree.enableChangeDetection(!p.band_only);
     flat.enableChangeDetection(true);
     band_key_min = tree.coordToKey(p.band_z_min);
     band_key_max = tree.coordToKey(p.band_z_max);
