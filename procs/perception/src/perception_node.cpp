@@ -377,13 +377,14 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
   kept.reserve(static_cast<std::size_t>(cloud.num_points));
   frame_returns_.clear();
   int64_t non_finite = 0;
+  const bool in_world = cloud.frame_id == "world";  // once, not a string compare per point
   for (int i = 0; i < cloud.num_points; ++i) {
     const Eigen::Vector3f b(cloud.x[i], cloud.y[i], cloud.z[i]);
     if (!b.allFinite()) {
       ++non_finite;
       continue;
     }
-    const Eigen::Vector3f w = cloud.frame_id == "world" ? b : Eigen::Vector3f(R * b + tr);
+    const Eigen::Vector3f w = in_world ? b : Eigen::Vector3f(R * b + tr);
     const float r2 = (w.head<2>() - centre.head<2>()).squaredNorm();
     if (r2 < min_r2) continue;
     // Ground and far returns are not objects, but the space their rays crossed was free: the
