@@ -103,16 +103,18 @@ bool prepareObstacle(const PredictedObstacle& obs, int64_t plan_start_utime,
 
 namespace {
 
-// Σ_i(t) and dΣ_i/dt of a track (zero without covariance). Before the state's own time the
-// covariance is held at its value (dt clamped at 0): predictions only go forward.
+// Σ_i(t) and dΣ_i/dt of a track (zero without covariance), each only if asked for (non-null).
+// Before the state's own time the covariance is held at its value (dt clamped at 0):
+// predictions only go forward.
 inline void covarianceAt(const ObstacleTrack& tr, double dt, Eigen::Matrix2d* S, Eigen::Matrix2d* dS) {
   if (!tr.use_covariance) {
-    S->setZero();
-    dS->setZero();
+    if (S) S->setZero();
+    if (dS) dS->setZero();
     return;
   }
   const double tau = std::max(0.0, dt);
-  *S = tr.S[0] + tau * (tr.S[1] + tau * (tr.S[2] + tau * tr.S[3]));
+  if (S) *S = tr.S[0] + tau * (tr.S[1] + tau * (tr.S[2] + tau * tr.S[3]));
+  if (!dS) return;
   if (dt > 0.0)
     *dS = tr.S[1] + tau * (2.0 * tr.S[2] + 3.0 * tau * tr.S[3]);
   else
@@ -186,7 +188,7 @@ double dynamicObstacleCost(const ObstacleTrack& tr, const OptimizerParams& param
   }
 
   Eigen::Matrix2d S, dS;
-  covarianceAt(tr, dt, &S, &dS);
+  covarianceAt(tr, dt, &S, nullptr);  // dS only once the sample is known to be within reach
   double R, dR_dt;
   double B = 1.0;
   Eigen::Vector2d dB_dp = Eigen::Vector2d::Zero();
@@ -194,13 +196,16 @@ double dynamicObstacleCost(const ObstacleTrack& tr, const OptimizerParams& param
   if (tr.disk) {
     const double sd = safeSqrt(S.trace());
     R = body + sp.k * sd;
+    if (d - R > cutoff) return 0.0;
+    covarianceAt(tr, dt, nullptr, &dS);
     dR_dt = sd > 0.0 ? sp.k * dS.trace() / (2.0 * sd) : 0.0;
   } else {
     // Eq. (6): R = |v| h + k sqrt(v̂ᵀ Σ v̂) + r/2 + s.
     const double sv = safeSqrt(tr.dir.dot(S * tr.dir));
     R = tr.speed * sp.h + sp.k * sv + body;
+    if (d - R > cutoff) return 0.0;  // about half the samples within reach end here
+    covarianceAt(tr, dt, nullptr, &dS);
     dR_dt = sv > 0.0 ? sp.k * tr.dir.dot(dS * tr.dir) / (2.0 * sv) : 0.0;
-    if (d - R > cutoff) return 0.0;
     // Eq. (7): tan(θ/2) = κ sqrt(ûᵀ Σ û) / (|v| h) =: g; cos(θ/2) = 1/sqrt(1+g^2).
     const double su = safeSqrt(tr.perp.dot(S * tr.perp));
     const double vh = tr.speed * sp.h;
@@ -222,7 +227,6 @@ double dynamicObstacleCost(const ObstacleTrack& tr, const OptimizerParams& param
     dB_dp = dB * dc_dp;
     dB_dt = dB * (dc_dt - dcos_half);
   }
-  if (d - R > cutoff) return 0.0;
   double A, dA;
   sigmoid(sp.alpha, R - d, &A, &dA);  // σ_α(r_i), r_i = R_i - d_i (eq. 8)
   const double a = A * B;
