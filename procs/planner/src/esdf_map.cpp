@@ -247,6 +247,7 @@ struct EsdfMap::Impl {
   std::unique_ptr<InsertHelper> helper;
   std::vector<uint64_t> helper_seen;
   std::vector<octomap::OcTreeKey> helper_fresh;
+  std::vector<uint64_t> scratch_endpoints_outside;  // endpoint leaves outside the insertion's grid
   std::vector<uint64_t> helper_free_outside;  // ... its per-cell dedup bits (updated, or occupied: to be), cleared per insertion
   /// Log-odds of leaves on a rolling grid (slot -> tagged key; 0 = nothing known), so that the
   /// insertion and the projection rarely search the tree. A tag with kAbsent set records that
@@ -665,21 +666,6 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   endpoints.clear();
   free_outside.clear();
   occupied_cells.clear();
-  std::size_t finite = 0;
-  for (const auto& p : points) {
-    if (!p.allFinite()) {
-      ++bad;
-      continue;
-    }
-    ++finite;
-    octomap::OcTreeKey k;
-    if (t.coordToKeyChecked(octomap::point3d(p.x(), p.y(), p.z()), k)) endpoints.push_back(pack(k));
-  }
-  // Discretised like OctoMap's insertion: one ray per endpoint leaf, to the leaf's centre.
-  std::sort(endpoints.begin(), endpoints.end());
-  endpoints.erase(std::unique(endpoints.begin(), endpoints.end()), endpoints.end());
-  if (skipped) *skipped += bad;
-  if (finite == 0) return InsertStatus::kEmpty;
   // Each cell is updated once per insertion (occupied wins over free, as in OctoMap). Cells
   // are deduplicated on a bit grid around the origin: no hashing, no sorting. One bit per
   // cell (~75 kB for the default range and band) stays in the core's cache, where 16-bit
@@ -695,6 +681,43 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= nz) return -1;
     return (long(z) * side + y) * side + x;  // x fastest, as the cache
   };
+  std::size_t finite = 0;
+  // Discretised like OctoMap's insertion: one ray per endpoint leaf, to the leaf's centre, the
+  // leaves in key order. The frames gathered for an insertion hit the same leaves again and
+  // again: duplicates inside the grid are dropped on its bits first, so that only the distinct
+  // leaves are sorted; the few outside it are sorted on their own and merged in.
+  std::vector<uint64_t>& outside_grid = m.scratch_endpoints_outside;
+  outside_grid.clear();
+  for (const auto& p : points) {
+    if (!p.allFinite()) {
+      ++bad;
+      continue;
+    }
+    ++finite;
+    octomap::OcTreeKey k;
+    if (!t.coordToKeyChecked(octomap::point3d(p.x(), p.y(), p.z()), k)) continue;
+    const long i = local(k);
+    if (i < 0) {
+      outside_grid.push_back(pack(k));
+      continue;
+    }
+    uint64_t& word = m.seen[std::size_t(i) >> 6];
+    const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
+    if (word & bit) continue;
+    word |= bit;
+    endpoints.push_back(pack(k));
+  }
+  std::sort(endpoints.begin(), endpoints.end());
+  if (!outside_grid.empty()) {
+    std::sort(outside_grid.begin(), outside_grid.end());
+    outside_grid.erase(std::unique(outside_grid.begin(), outside_grid.end()), outside_grid.end());
+    const std::size_t inside = endpoints.size();
+    endpoints.insert(endpoints.end(), outside_grid.begin(), outside_grid.end());
+    std::inplace_merge(endpoints.begin(), endpoints.begin() + std::ptrdiff_t(inside), endpoints.end());
+  }
+  std::fill(m.seen.begin(), m.seen.end(), 0);  // the bits mark updated cells from here on
+  if (skipped) *skipped += bad;
+  if (finite == 0) return InsertStatus::kEmpty;
   // Ray end of each endpoint leaf (its centre, cut at the range and where it leaves the slab);
   // the endpoints that are hits inside the slab become occupied.
   const auto rayEnd = [&](const octomap::OcTreeKey& k, bool* occupied) {
