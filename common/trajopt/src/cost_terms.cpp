@@ -106,7 +106,8 @@ namespace {
 // Σ_i(t) and dΣ_i/dt of a track (zero without covariance), each only if asked for (non-null).
 // Before the state's own time the covariance is held at its value (dt clamped at 0):
 // predictions only go forward.
-inline void covarianceAt(const ObstacleTrack& tr, double dt, Eigen::Matrix2d* S, Eigen::Matrix2d* dS) {
+__attribute__((always_inline)) inline void covarianceAt(const ObstacleTrack& tr, double dt, Eigen::Matrix2d* S,
+                                                      Eigen::Matrix2d* dS) {
   if (!tr.use_covariance) {
     if (S) S->setZero();
     if (dS) dS->setZero();
