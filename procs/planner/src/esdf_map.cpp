@@ -241,14 +241,14 @@ struct EsdfMap::Impl {
   std::vector<float> scratch_f, scratch_d, scratch_z, scratch_col;
   std::vector<int> scratch_v;
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
-  std::vector<uint64_t> seen;
+  std::vector<uint64_t> scratch_endpoints_outside;  // ... its endpoint leaves outside its grid
+  std::vector<uint64_t> seen;  // ... its per-cell dedup bits (endpoints; then cells updated, or occupied: to be)
   // The helper's share of a two-thread insertion: its own dedup bits, the cells new to its
   // rays in order, and its cells outside the grid.
   std::unique_ptr<InsertHelper> helper;
   std::vector<uint64_t> helper_seen;
   std::vector<octomap::OcTreeKey> helper_fresh;
-  std::vector<uint64_t> scratch_endpoints_outside;  // endpoint leaves outside the insertion's grid
-  std::vector<uint64_t> helper_free_outside;  // ... its per-cell dedup bits (updated, or occupied: to be), cleared per insertion
+  std::vector<uint64_t> helper_free_outside;
   /// Log-odds of leaves on a rolling grid (slot -> tagged key; 0 = nothing known), so that the
   /// insertion and the projection rarely search the tree. A tag with kAbsent set records that
   /// no leaf (and no pruned node) covers the key. Exact: every write to the tree goes through
@@ -676,6 +676,14 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   const int side = 2 * H + 1, nz = std::max(1, kz1 - kz0 + 1);
   const std::size_t cells = std::size_t(side) * std::size_t(side) * std::size_t(nz);
   m.seen.assign((cells + 63) / 64, 0);
+  // Sets cell i's bit; true when it was not set yet.
+  const auto markNew = [](std::vector<uint64_t>& bits, long i) {
+    uint64_t& word = bits[std::size_t(i) >> 6];
+    const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
+    if (word & bit) return false;
+    word |= bit;
+    return true;
+  };
   const auto local = [&](const octomap::OcTreeKey& c) -> long {
     const int x = int(c[0]) - int(ok[0]) + H, y = int(c[1]) - int(ok[1]) + H, z = int(c[2]) - kz0;
     if (x < 0 || y < 0 || z < 0 || x >= side || y >= side || z >= nz) return -1;
@@ -701,11 +709,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
       outside_grid.push_back(pack(k));
       continue;
     }
-    uint64_t& word = m.seen[std::size_t(i) >> 6];
-    const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
-    if (word & bit) continue;
-    word |= bit;
-    endpoints.push_back(pack(k));
+    if (markNew(m.seen, i)) endpoints.push_back(pack(k));
   }
   std::sort(endpoints.begin(), endpoints.end());
   if (!outside_grid.empty()) {
@@ -739,7 +743,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     if (!occ) continue;
     occupied_cells.push_back(packed);  // sorted and unique: a subset of the endpoints
     const long i = local(unpack(packed));
-    if (i >= 0) m.seen[std::size_t(i) >> 6] |= uint64_t(1) << (std::size_t(i) & 63);
+    if (i >= 0) markNew(m.seen, i);
   }
   // Traces the rays of endpoints [from, to): each cell not yet in `seen` is marked there and
   // handed to fresh(cell); cells outside the grid (origin outside the slab) go to `outside`.
@@ -754,11 +758,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
           outside.push_back(pack(c));  // sorted, deduplicated and applied below
           return;
         }
-        uint64_t& word = seen[std::size_t(i) >> 6];
-        const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
-        if (word & bit) return;  // updated already (free) or to be (occupied)
-        word |= bit;
-        fresh(c);
+        if (markNew(seen, i)) fresh(c);  // else updated already (free) or to be (occupied)
       });
     }
   };
@@ -784,14 +784,8 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
       throw;
     }
     m.helper->wait();
-    for (const auto& c : m.helper_fresh) {
-      const long i = local(c);
-      uint64_t& word = m.seen[std::size_t(i) >> 6];
-      const uint64_t bit = uint64_t(1) << (std::size_t(i) & 63);
-      if (word & bit) continue;  // the first half's rays reached it first
-      word |= bit;
-      m.updateLeaf(c, false);
-    }
+    for (const auto& c : m.helper_fresh)
+      if (markNew(m.seen, local(c))) m.updateLeaf(c, false);  // else the first half reached it first
     free_outside.insert(free_outside.end(), m.helper_free_outside.begin(), m.helper_free_outside.end());
   } else {
     trace(0, endpoints.size(), m.seen, free_outside, update_free);
