@@ -27,6 +27,21 @@ MapParams smallParams() {
   return p;
 }
 
+/// A scan of n returns around `origin`: per return, the azimuth from `ang`, the range from
+/// `dist` (times `shrink`) and the height from `height`, drawn in that order.
+std::vector<Eigen::Vector3f> ringScan(const Eigen::Vector3d& origin, int n, float shrink, std::mt19937& rng,
+                                      std::uniform_real_distribution<double>& ang,
+                                      std::uniform_real_distribution<double>& dist,
+                                      std::uniform_real_distribution<double>& height) {
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < n; ++i) {
+    const double a = ang(rng), r = dist(rng);
+    pts.emplace_back(float(origin.x() + shrink * r * std::cos(a)), float(origin.y() + shrink * r * std::sin(a)),
+                     float(height(rng)));
+  }
+  return pts;
+}
+
 using Cell = std::pair<int, int>;  // integer cell indices in x, y (world / resolution, floored)
 
 Eigen::Vector2d centreOf(const Cell& c, double res) {
@@ -146,13 +161,8 @@ TEST(EsdfMap, GivenManyIncrementalUpdatesThenTheSliceKeptNearChangesEqualsAFullR
   int incremental = 0, occupied_max = 0;
   for (int step = 0; step < 60; ++step) {
     const Eigen::Vector3d origin(0.03 * (step % 7), -0.02 * (step % 5), 0.25);
-    std::vector<Eigen::Vector3f> pts;
     const float shrink = step % 10 < 5 ? 1.0f : 0.7f;
-    for (int i = 0; i < 200; ++i) {
-      const double a = ang(rng), r = dist(rng);
-      pts.emplace_back(float(origin.x() + shrink * r * std::cos(a)), float(origin.y() + shrink * r * std::sin(a)),
-                       float(height(rng)));
-    }
+    const std::vector<Eigen::Vector3f> pts = ringScan(origin, 200, shrink, rng, ang, dist, height);
     ASSERT_EQ(m.insert(origin, pts, 4.5), ucon::planner::InsertStatus::kOk);
     if (step % 3 == 0)
       for (int k = 0; k < 15; ++k) occupy(m, {cell(rng), cell(rng)}, k % 3 != 0);
@@ -278,14 +288,9 @@ TEST(EsdfMap, GivenLongSequencesOfScansAndCellWritesThenEveryBandCellEqualsAFull
   int occupied_seen = 0;
   for (int scan = 0; scan < 40; ++scan) {
     const Eigen::Vector3d origin(0.02 * (scan % 5), -0.03 * (scan % 3), 0.25);
-    std::vector<Eigen::Vector3f> pts;
     // Three "worlds" in turn: cells are hit several times, then seen through, then hit again.
     const float shrink = scan % 12 < 6 ? 1.0f : (scan % 12 < 9 ? 0.6f : 1.3f);
-    for (int i = 0; i < 300; ++i) {
-      const double az = ang(rng), r = dist(rng);
-      pts.emplace_back(float(origin.x() + shrink * r * std::cos(az)), float(origin.y() + shrink * r * std::sin(az)),
-                       float(height(rng)));
-    }
+    const std::vector<Eigen::Vector3f> pts = ringScan(origin, 300, shrink, rng, ang, dist, height);
     ASSERT_EQ(a.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
     ASSERT_EQ(b.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
     if (scan % 4 == 1) {  // direct writes: single cells and a cleared disc
@@ -355,11 +360,7 @@ TEST(EsdfMap, GivenManyScansOfFreeSpaceWhenInsertedLazilyThenTheTreeIsPrunedNowA
   std::uniform_real_distribution<double> ang(-M_PI, M_PI), height(-0.3, 0.8), dist(5.0, 6.0);
   for (int scan = 0; scan < 60; ++scan) {
     const Eigen::Vector3d origin(0.1 * scan, 0.0, 0.25);
-    std::vector<Eigen::Vector3f> pts;
-    for (int i = 0; i < 1500; ++i) {
-      const double az = ang(rng), r = dist(rng);
-      pts.emplace_back(float(origin.x() + r * std::cos(az)), float(origin.y() + r * std::sin(az)), float(height(rng)));
-    }
+    const std::vector<Eigen::Vector3f> pts = ringScan(origin, 1500, 1.0f, rng, ang, dist, height);
     ASSERT_EQ(m.insert(origin, pts, 8.0), ucon::planner::InsertStatus::kOk);
   }
   const Eigen::Vector3d probe(3.05, 1.05, 0.25);
@@ -443,12 +444,7 @@ TEST(EsdfMap, GivenTwoInsertThreadsThenTheMapEqualsOneThreadsLeafForLeaf) {
   for (int scan = 0; scan < 30; ++scan) {
     const Eigen::Vector3d origin(0.05 * (scan % 7), -0.04 * (scan % 4), scan % 10 == 9 ? 1.2 : 0.25);
     const float shrink = scan % 9 < 5 ? 1.0f : 0.6f;
-    std::vector<Eigen::Vector3f> pts;
-    for (int i = 0; i < 500; ++i) {
-      const double az = ang(rng), r = dist(rng);
-      pts.emplace_back(float(origin.x() + shrink * r * std::cos(az)), float(origin.y() + shrink * r * std::sin(az)),
-                       float(height(rng)));
-    }
+    const std::vector<Eigen::Vector3f> pts = ringScan(origin, 500, shrink, rng, ang, dist, height);
     ASSERT_EQ(a.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
     ASSERT_EQ(b.insert(origin, pts, 4.0), ucon::planner::InsertStatus::kOk);
     if (scan % 6 == 2) {

@@ -103,23 +103,18 @@ bool prepareObstacle(const PredictedObstacle& obs, int64_t plan_start_utime,
 
 namespace {
 
-// Σ_i(t) and dΣ_i/dt of a track (zero without covariance), each only if asked for (non-null).
-// Before the state's own time the covariance is held at its value (dt clamped at 0):
-// predictions only go forward.
-__attribute__((always_inline)) inline void covarianceAt(const ObstacleTrack& tr, double dt, Eigen::Matrix2d* S,
-                                                      Eigen::Matrix2d* dS) {
-  if (!tr.use_covariance) {
-    if (S) S->setZero();
-    if (dS) dS->setZero();
-    return;
-  }
+// Σ_i(t) of a track (zero without covariance). Before the state's own time the covariance
+// is held at its value (dt clamped at 0): predictions only go forward.
+inline Eigen::Matrix2d covarianceAt(const ObstacleTrack& tr, double dt) {
+  if (!tr.use_covariance) return Eigen::Matrix2d::Zero();
   const double tau = std::max(0.0, dt);
-  if (S) *S = tr.S[0] + tau * (tr.S[1] + tau * (tr.S[2] + tau * tr.S[3]));
-  if (!dS) return;
-  if (dt > 0.0)
-    *dS = tr.S[1] + tau * (2.0 * tr.S[2] + 3.0 * tau * tr.S[3]);
-  else
-    dS->setZero();
+  return tr.S[0] + tau * (tr.S[1] + tau * (tr.S[2] + tau * tr.S[3]));
+}
+
+// dΣ_i/dt (zero without covariance, and before the state's own time).
+inline Eigen::Matrix2d covarianceRateAt(const ObstacleTrack& tr, double dt) {
+  if (!tr.use_covariance || !(dt > 0.0)) return Eigen::Matrix2d::Zero();
+  return tr.S[1] + dt * (2.0 * tr.S[2] + 3.0 * dt * tr.S[3]);
 }
 
 }  // namespace
@@ -135,8 +130,7 @@ SectorShape sectorAt(const ObstacleTrack& tr, double t, const OptimizerParams& p
     s.half_angle = M_PI;
     return s;
   }
-  Eigen::Matrix2d S, dS;
-  covarianceAt(tr, dt, &S, &dS);
+  const Eigen::Matrix2d S = covarianceAt(tr, dt);
   if (tr.disk) {
     s.radius = s.body_radius + sp.k * safeSqrt(S.trace());
     s.half_angle = M_PI;
@@ -188,8 +182,8 @@ double dynamicObstacleCost(const ObstacleTrack& tr, const OptimizerParams& param
     return A;
   }
 
-  Eigen::Matrix2d S, dS;
-  covarianceAt(tr, dt, &S, nullptr);  // dS only once the sample is known to be within reach
+  const Eigen::Matrix2d S = covarianceAt(tr, dt);
+  Eigen::Matrix2d dS;  // only once the sample is known to be within reach
   double R, dR_dt;
   double B = 1.0;
   Eigen::Vector2d dB_dp = Eigen::Vector2d::Zero();
@@ -198,14 +192,14 @@ double dynamicObstacleCost(const ObstacleTrack& tr, const OptimizerParams& param
     const double sd = safeSqrt(S.trace());
     R = body + sp.k * sd;
     if (d - R > cutoff) return 0.0;
-    covarianceAt(tr, dt, nullptr, &dS);
+    dS = covarianceRateAt(tr, dt);
     dR_dt = sd > 0.0 ? sp.k * dS.trace() / (2.0 * sd) : 0.0;
   } else {
     // Eq. (6): R = |v| h + k sqrt(v̂ᵀ Σ v̂) + r/2 + s.
     const double sv = safeSqrt(tr.dir.dot(S * tr.dir));
     R = tr.speed * sp.h + sp.k * sv + body;
     if (d - R > cutoff) return 0.0;  // about half the samples within reach end here
-    covarianceAt(tr, dt, nullptr, &dS);
+    dS = covarianceRateAt(tr, dt);
     dR_dt = sv > 0.0 ? sp.k * tr.dir.dot(dS * tr.dir) / (2.0 * sv) : 0.0;
     // Eq. (7): tan(θ/2) = κ sqrt(ûᵀ Σ û) / (|v| h) =: g; cos(θ/2) = 1/sqrt(1+g^2).
     const double su = safeSqrt(tr.perp.dot(S * tr.perp));

@@ -227,14 +227,12 @@ SafetyCheck checkTrajectory(const trajectory_t& tr, int64_t from_utime, const Di
       for (const auto& o : obstacles) {
         if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
         // grownBodyGap, its growth (the position's std, an eigenvalue) only worked out where it
-        // can matter: the gap is at least gap0 - cap (rounding is monotone), so a body that far
-        // cannot lower the minimum, nor fail the check (a minimum below the robot's radius has
-        // failed it already).
+        // can matter: the grown gap is at least gap0 - cap (rounding is monotone), so a body that
+        // far cannot lower the minimum, nor fail the check (a minimum below the robot's radius
+        // has failed it already).
         const double gap0 = predictedBodyGap(o, p, t_abs);
         if (k > 0.0 && cap > 0.0 && gap0 - cap >= out.min_dynamic_clearance) continue;
-        const double gap = k > 0.0 ? gap0 - (cap > 0.0 ? std::min(k * predictedPositionSigma(o, t_abs), cap)
-                                                       : k * predictedPositionSigma(o, t_abs))
-                                   : gap0;
+        const double gap = grownGap(gap0, o, t_abs, k, cap);
         out.min_dynamic_clearance = std::min(out.min_dynamic_clearance, gap);
         if (out.status == PlanStatus::kOk && gap < params.robot_radius) {
           out.status = PlanStatus::kDynamicCollision;

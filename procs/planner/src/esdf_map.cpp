@@ -242,6 +242,7 @@ struct EsdfMap::Impl {
   std::vector<int> scratch_v;
   std::vector<uint64_t> scratch_endpoints, scratch_free_outside, scratch_occupied;  // band-only insertion
   std::vector<uint64_t> scratch_endpoints_outside;  // ... its endpoint leaves outside its grid
+  std::vector<octomap::point3d> scratch_ray_ends;   // ... where each endpoint's ray is traced to
   std::vector<uint64_t> seen;  // ... its per-cell dedup bits (endpoints; then cells updated, or occupied: to be)
   // The helper's share of a two-thread insertion: its own dedup bits, the cells new to its
   // rays in order, and its cells outside the grid.
@@ -737,12 +738,14 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
     const double s = (dz > 0.0 ? z_hi - o.z() : z_lo - o.z()) / dz;  // in (0, 1): leaves the slab
     return o + (end - o) * float(std::min(1.0, s + res / std::max(dist, res)));
   };
-  for (const uint64_t packed : endpoints) {
+  std::vector<octomap::point3d>& ends = m.scratch_ray_ends;
+  ends.resize(endpoints.size());
+  for (std::size_t e = 0; e < endpoints.size(); ++e) {
     bool occ = false;
-    rayEnd(unpack(packed), &occ);
+    ends[e] = rayEnd(unpack(endpoints[e]), &occ);
     if (!occ) continue;
-    occupied_cells.push_back(packed);  // sorted and unique: a subset of the endpoints
-    const long i = local(unpack(packed));
+    occupied_cells.push_back(endpoints[e]);  // sorted and unique: a subset of the endpoints
+    const long i = local(unpack(endpoints[e]));
     if (i >= 0) markNew(m.seen, i);
   }
   // Traces the rays of endpoints [from, to): each cell not yet in `seen` is marked there and
@@ -750,9 +753,7 @@ InsertStatus EsdfMap::insert(const Eigen::Vector3d& origin, const std::vector<Ei
   const auto trace = [&](std::size_t from, std::size_t to, std::vector<uint64_t>& seen,
                          std::vector<uint64_t>& outside, auto&& fresh) {
     for (std::size_t e = from; e < to; ++e) {
-      bool occ = false;
-      const octomap::point3d trace_to = rayEnd(unpack(endpoints[e]), &occ);
-      traceRayKeys(t, o, trace_to, [&](const octomap::OcTreeKey& c) {
+      traceRayKeys(t, o, ends[e], [&](const octomap::OcTreeKey& c) {
         const long i = local(c);
         if (i < 0) {
           outside.push_back(pack(c));  // sorted, deduplicated and applied below

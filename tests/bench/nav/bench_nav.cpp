@@ -145,6 +145,7 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
   }
   std::vector<std::string> outputChannels() const override { return inner_->outputChannels(); }
   std::vector<std::pair<std::string, int64_t>> counters() const override { return inner_->counters(); }
+  double helperCpuSeconds() const override { return inner_->helperCpuSeconds(); }
   rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
                       std::vector<rp::OutputMessage>* out) override {
     if (channel != ucon::channels::kSimGroundTruth) {

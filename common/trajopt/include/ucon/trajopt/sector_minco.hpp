@@ -178,14 +178,19 @@ inline double predictedBodyGap(const PredictedObstacle& o, const Eigen::Vector2d
 /// 0 without covariance or if that is not finite.
 double predictedPositionSigma(const PredictedObstacle& o, int64_t utime);
 
-/// predictedBodyGap with the body grown by k standard deviations of its predicted position
-/// (predictedPositionSigma), the growth at most `cap` [m] (cap <= 0: no cap; k <= 0: no growth).
-inline double grownBodyGap(const PredictedObstacle& o, const Eigen::Vector2d& p, int64_t utime, double k,
-                           double cap) {
-  const double gap = predictedBodyGap(o, p, utime);
+/// `gap` (predictedBodyGap at `utime`) with the body grown by k standard deviations of its
+/// predicted position (predictedPositionSigma), the growth at most `cap` [m] (cap <= 0: no
+/// cap; k <= 0: no growth). Never above `gap`, and with a cap never below gap - cap.
+inline double grownGap(double gap, const PredictedObstacle& o, int64_t utime, double k, double cap) {
   if (!(k > 0.0)) return gap;
   const double grow = k * predictedPositionSigma(o, utime);
   return gap - (cap > 0.0 ? std::min(grow, cap) : grow);
+}
+
+/// predictedBodyGap with the body grown as grownGap says.
+inline double grownBodyGap(const PredictedObstacle& o, const Eigen::Vector2d& p, int64_t utime, double k,
+                           double cap) {
+  return grownGap(predictedBodyGap(o, p, utime), o, utime, k, cap);
 }
 
 /// Checks a 2-D order1 = 6 trajectory message against the field (may be null), the
