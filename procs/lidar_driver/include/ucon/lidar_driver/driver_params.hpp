@@ -11,7 +11,7 @@ namespace ucon {
 namespace lidar_driver {
 
 /// Addresses and UDP ports. Host ports are what the driver binds; sensor ports are where it
-/// sends commands. Defaults are the Mid-360's (REFERENCE.md §2).
+/// sends commands. Defaults are the Mid-360's (its ports and addresses: docs/reference.md).
 struct NetworkParams {
   std::string host_ip = "127.0.0.1";    ///< host interface the sensor sends to (IPv4)
   std::string sensor_ip = "127.0.0.1";  ///< sensor address when discovery is off; only datagrams
