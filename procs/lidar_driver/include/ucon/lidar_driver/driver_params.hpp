@@ -11,7 +11,7 @@ namespace ucon {
 namespace lidar_driver {
 
 /// Addresses and UDP ports. Host ports are what the driver binds; sensor ports are where it
-/// sends commands. Defaults are the Mid-360's (REFERENCE.md §2).
+/// sends commands. Defaults are the Mid-360's (its ports and addresses: docs/reference.md).
 struct NetworkParams {
   std::string host_ip = "127.0.0.1";    ///< host interface the sensor sends to (IPv4)
   std::string sensor_ip = "127.0.0.1";  ///< sensor address when discovery is off; only datagrams
@@ -51,9 +51,10 @@ struct FrameParams {
 /// Sensor pose in the robot body frame: p_base = R(rpy) * p_lidar + xyz.
 struct ExtrinsicParams {
   bool apply = true;                       ///< false: publish in the sensor frame ("lidar")
-  std::vector<double> xyz = {0.0, 0.0, 0.0};  ///< [m] translation, each in [-10, 10]
-  std::vector<double> rpy_deg = {0.0, 0.0, 0.0};  ///< [deg] roll, pitch, yaw (R = Rz Ry Rx),
-                                                  ///< each in [-360, 360]
+  /// [m] translation, each in [-10, 10]; the shipped mount: 0.5 m above the base origin
+  std::vector<double> xyz = {0.0, 0.0, 0.5};
+  /// [deg] roll, pitch, yaw (R = Rz Ry Rx), each in [-360, 360]; the shipped mount: upside down
+  std::vector<double> rpy_deg = {180.0, 0.0, 0.0};
   void read(ConfigReader& r);
 };
 

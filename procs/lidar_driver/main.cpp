@@ -107,9 +107,9 @@ int main(int argc, char** argv) {
   const int64_t sensor_id = (int64_t{sensor_ip[0]} << 24) | (int64_t{sensor_ip[1]} << 16) |
                             (int64_t{sensor_ip[2]} << 8) | int64_t{sensor_ip[3]};
   ld::LidarDriverNode node(*params, sensor_id);
-  ucon::StatusReport& status = rt->status();
-  rt->setStatusChannel(ucon::channels::kLidarStatus, params->status_period_s,
-                       [&node] { return node.now(); });
+  ucon::StatusReport status(kName);
+  rt->setStatus(ucon::channels::kLidarStatus, params->status_period_s,
+                [&status]() -> ucon::StatusReport& { return status; }, [&node] { return node.now(); });
 
   // Only the sensor's datagrams are used (another lidar or program may send to our ports);
   // sensor_ip 0.0.0.0 with control disabled accepts any source (e.g. a pcap replay).
