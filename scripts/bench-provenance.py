@@ -69,6 +69,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("file", help="benchmark JSON file (a JSON object)")
     ap.add_argument("--command", required=True, help="the exact command that produced it")
+    ap.add_argument("--note", help="a sentence on the conditions (e.g. what else ran)")
     ap.add_argument("--root", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."),
                     help="the checkout whose revision is recorded")
     args = ap.parse_args()
@@ -82,6 +83,8 @@ def main():
         print(f"bench-provenance: {args.file}: top level is not a JSON object", file=sys.stderr)
         return 2
     data["provenance"] = provenance(args.root, args.command)
+    if args.note:
+        data["provenance"]["note"] = args.note
     tmp = args.file + ".tmp"
     with open(tmp, "w", encoding="utf-8") as f:
         json.dump(data, f, indent=1)

@@ -120,7 +120,8 @@ def render_file(path):
     lines = [f"## {name}", "",
              f"`{prov['command']}`", "",
              f"Revision `{str(prov['git_revision'])[:12]}`, {prov['date']}, "
-             f"{m.get('cpu_model', 'unknown CPU')}, {m.get('cores', '?')} cores.", ""]
+             f"{m.get('cpu_model', 'unknown CPU')}, {m.get('cores', '?')} cores."
+             + (f" {prov['note']}." if prov.get("note") else ""), ""]
     notes = os.path.join(DATA, name + ".notes.md")
     if os.path.exists(notes):
         with open(notes, encoding="utf-8") as f:
