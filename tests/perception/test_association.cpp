@@ -77,12 +77,18 @@ TEST(AssociateObjects, GivenTwoTracksOfDifferentSizeCloseTogetherThenEq1MatchesB
 }
 
 TEST(AssociateObjects, GivenPairsBeyondTheGatesThenTheyStayUnmatched) {
-  AssociationParams p;
+  AssociationParams p;  // the shipped gates
   std::vector<TrackView> tracks{track(box(0, 0, 0.5, 0.5))};
-  // Same size 2 m away: eq. 1 gives only 0.3 (no IoU) but the distance gate forbids it.
+  // Same size 2 m away: eq. 1 gives 0.3 * (1 + 0.6) (generalised IoU -0.6), within cost_gate,
+  // but the 1 m distance gate forbids it (seen alone: the Mahalanobis gate off).
+  ASSERT_LT(associationCost({box(2, 0, 0.5, 0.5)}, tracks[0], p), p.cost_gate);
+  p.gate_sigma = 0.0;
   EXPECT_EQ(associateObjects({{box(2, 0, 0.5, 0.5)}}, tracks, p).track_to_detection[0], -1);
-  // Close but three times the size: 0.3 * (1 - 1/9) + 0.4 * 2 > 0.9.
-  EXPECT_EQ(associateObjects({{box(0, 0, 1.5, 1.5)}}, tracks, p).track_to_detection[0], -1);
+  p.gate_sigma = AssociationParams{}.gate_sigma;
+  // Same place but four times the size: 0.3 * (1 - 1/16) + 0.4 * 3 = 1.48 > cost_gate 1.3.
+  EXPECT_EQ(associateObjects({{box(0, 0, 2.0, 2.0)}}, tracks, p).track_to_detection[0], -1);
+  // Three times the size passes: 0.3 * (1 - 1/9) + 0.4 * 2 = 1.07.
+  EXPECT_EQ(associateObjects({{box(0, 0, 1.5, 1.5)}}, tracks, p).track_to_detection[0], 0);
   EXPECT_EQ(associateNearest({{box(0.85, 0, 0.5, 0.5)}}, tracks, p).track_to_detection[0], -1);
   EXPECT_EQ(associateNearest({{box(0.75, 0, 0.5, 0.5)}}, tracks, p).track_to_detection[0], 0);
 }
@@ -135,13 +141,16 @@ TEST(AssociateObjects, GivenADistanceWeightThenTheNearerOfTwoGatedTracksWins) {
   p.max_distance_cap = 3.0;
   // Both tracks' boxes miss the detection's box; the far one (2.0 m) has the detection's
   // size, the near one (0.9 m) a slightly different size, so eq. 1 alone prefers the far one.
-  const TrackView near_track = track(box(0.9, 0, 0.5, 0.9));
-  const TrackView far_track = track(box(-2.0, 0, 0.5, 0.5));
+  TrackView near_track = track(box(0.9, 0, 0.5, 0.9));
+  TrackView far_track = track(box(-2.0, 0, 0.5, 0.5));
+  // Uncertain predictions (1 m std): the Mahalanobis gate passes both.
+  near_track.position_cov = far_track.position_cov = Eigen::Matrix2d::Identity();
   const std::vector<DetectionView> det{{box(0, 0, 0.5, 0.5)}};
+  const double shipped = p.distance_weight;
   p.distance_weight = 0.0;
   ASSERT_LT(associationCost(det[0], far_track, p), associationCost(det[0], near_track, p));
   EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 1);
-  p.distance_weight = 1.0;
+  p.distance_weight = shipped;
   EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 0);
 }
 
@@ -211,17 +220,17 @@ TEST(PassesCrossGate, GivenATrackUnseenForAWhileThenOnlyCentresNearItsLineArePas
 TEST(AssociateObjects, GivenACoastingTrackAndANeighbourReappearingBesideItsLineThenThePairIsForbidden) {
   // Person A (track) walked +y on x = 3 and is hidden; person B reappears on x = 3.7, within
   // every distance gate of A's prediction. Without the cross gate A takes B's detection.
-  AssociationParams p;
-  p.max_distance = 1.0;
-  p.direction_min_speed = 0.3;
+  AssociationParams p;  // shipped: cross gate 0.4 m + 0.15 m/s unseen
   TrackView a = coasting(box(3.0, 4.0, 0.5, 0.5), {0.0, 1.0}, 0.6);
   a.velocity = {0.0, 0.5};
   a.has_velocity = true;
   a.last_center = {3.0, 3.4};
+  a.position_cov = Eigen::Matrix2d::Identity() * 0.09;  // 0.3 m std after coasting: B is within 3.5 sigma
   const std::vector<DetectionView> det{{box(3.7, 4.1, 0.5, 0.5)}};
+  const AssociationParams shipped;
+  p.cross_gate = 0.0;
   EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], 0);
-  p.cross_gate = 0.3;
-  p.cross_gate_growth = 0.15;
+  p.cross_gate = shipped.cross_gate;  // 0.4 + 0.15 * 0.6 = 0.49 m across; B is 0.7 m across
   EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], -1);
   // A's own reappearance on its line, ahead of the decayed prediction, is still matched.
   EXPECT_EQ(associateObjects({{box(3.05, 4.5, 0.5, 0.5)}}, {a}, p).detection_to_track[0], 0);
@@ -231,10 +240,7 @@ TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjec
   // A partly hidden person's small view: eq. 1 prefers the coasting track (its faded direction
   // term and its size), the nearer track that saw the person last frame loses it without the
   // cascade.
-  AssociationParams p;
-  p.max_distance = 1.0;
-  p.distance_weight = 1.0;
-  p.cost_gate = 1.3;
+  AssociationParams p;  // shipped
   TrackView seen = track(box(3.53, -1.88, 0.5, 0.5));
   seen.since_last = 0.02;
   seen.has_velocity = true;
@@ -244,8 +250,10 @@ TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjec
   const std::vector<DetectionView> det{{box(3.49, -2.0, 0.14, 0.3)}};
   ASSERT_LT(associationCost(det[0], hidden, p) + (det[0].box.center - hidden.box.center).norm(),
             associationCost(det[0], seen, p) + (det[0].box.center - seen.box.center).norm());
+  const double shipped = p.cascade_after;
+  p.cascade_after = 0.0;  // one matching
   EXPECT_EQ(associateObjects(det, {seen, hidden}, p).detection_to_track[0], 1);
-  p.cascade_after = 0.1;
+  p.cascade_after = shipped;  // 0.1 s
   Matching m = associateObjects(det, {seen, hidden}, p);
   EXPECT_EQ(m.detection_to_track[0], 0);
   EXPECT_EQ(m.track_to_detection[1], -1);
@@ -264,8 +272,10 @@ TEST(AssociationCost, GivenATrackBoxShrunkByPartialViewsThenTheSizeTermIsMeasure
   const TrackView h = track(box(3.66, -3.64, 0.16, 0.07));
   const DetectionView c{box(3.68, -3.65, 0.41, 0.31)};
   const double change = std::hypot(0.41 - 0.16, 0.31 - 0.07);
+  const double shipped = p.size_floor;
+  p.size_floor = 0.0;
   EXPECT_NEAR(associationCost(c, h, p), change / std::hypot(0.16, 0.07), 1e-9);  // > 2
-  p.size_floor = 0.5;
+  p.size_floor = shipped;  // 0.5 m
   EXPECT_NEAR(associationCost(c, h, p), change / 0.5, 1e-9);
   // A track box larger than the floor is unaffected.
   const TrackView big = track(box(3.66, -3.64, 0.5, 0.4));

@@ -6,13 +6,16 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <random>
 #include <set>
+#include <sstream>
 #include <vector>
 
 #include "synthetic_scene.hpp"
+#include "ucon/config.hpp"
 #include "ucon/perception/perception_node.hpp"
 #include "ucon/tracked_object_t.hpp"
 
@@ -22,9 +25,18 @@ using TO = ucon::tracked_object_t;
 
 namespace {
 
+// The shipped configuration (equal to the in-class defaults: test_params.cpp).
 PerceptionParams testParams() {
-  PerceptionParams p;  // defaults = deploy/config/perception.yaml
-  return p;
+  std::ifstream f("deploy/config/perception.yaml");  // tests run from the source root
+  std::stringstream text;
+  text << f.rdbuf();
+  std::vector<ucon::ConfigError> errors;
+  const auto p = ucon::loadParams<PerceptionParams>(text.str(), "deploy/config/perception.yaml", &errors);
+  if (!p) {
+    ADD_FAILURE() << "deploy/config/perception.yaml: " << (errors.empty() ? "not found" : errors[0].toString());
+    return PerceptionParams{};
+  }
+  return *p;
 }
 
 const TO* nearestConfirmed(const ucon::tracked_objects_t& o, double x, double y, double gate = 0.6) {
