@@ -52,7 +52,7 @@ std::string shippedText() {
   X(object_association.cross_gate_until) X(object_association.cross_rank_weight)                   \
   X(object_association.size_floor) X(object_association.cascade_after)                             \
   X(reassociation.enabled) X(reassociation.d0) X(reassociation.gamma)                              \
-  X(reassociation.max_history_points) X(reassociation.split_matched) X(reassociation.max_shift)    \
+  X(reassociation.max_history_points) X(reassociation.max_shift)    \
   X(reassociation.max_consecutive)                                                                 \
   X(tracks.confirm_hits) X(tracks.confirm_min_speed) X(tracks.confirm_max_speed)                   \
   X(tracks.confirm_min_distance) X(tracks.confirm_moving_hits) X(tracks.max_stationary)            \

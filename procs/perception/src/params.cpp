@@ -73,7 +73,6 @@ void ReassociationParams::read(ConfigReader& r) {
   r.read("d0", d0, 1e-3, 10.0);
   r.read("gamma", gamma, 1e-3, 0.999);
   r.read("max_history_points", max_history_points, 1, 100000);
-  r.read("split_matched", split_matched);
   r.read("max_shift", max_shift, 0.01, 10.0);
   r.read("max_consecutive", max_consecutive, 1, 100000);
 }

@@ -214,8 +214,8 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
 
   // 4. Point-level historical re-association of the tracks left unmatched (appendix
   // algorithm). P is every pre-processed point of the frame: the environment, the unmatched
-  // clusters and also matched clusters, so that an object merged into another object's
-  // cluster (or into static structure) is recovered and the merged cluster is split.
+  // clusters and the matched ones (an object merged into another object's cluster or into
+  // static structure is found there).
   t = stopwatch_();
   if (params_.useUcon() && params_.reassociation.enabled) {
     std::vector<int> lost;
@@ -234,34 +234,20 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
         objs.push_back({tr.history, tr.kf.state().tail<3>(), seconds(utime - tr.last_seen_utime)});
       }
       const auto rec = reassociate(objs, frame_index_, params_.reassociation.d0, params_.reassociation.gamma);
-      // Points already measured by an object-level match: the matched track keeps them unless
-      // enough of its cluster remains without them.
-      std::vector<int> owner(frame_points_.size(), -1);
-      for (std::size_t j = 0; j < n_old_tracks; ++j)
-        for (int i : meas_points[j]) owner[i] = static_cast<int>(j);
       std::vector<int> claimed_by(frame_points_.size(), -1);
       for (std::size_t k = 0; k < lost.size(); ++k)
         for (int i : rec[k]) claimed_by[i] = lost[k];
-      for (std::size_t j = 0; j < n_old_tracks; ++j) {
-        if (meas_how[j] != TO::ASSOC_OBJECT) continue;
-        std::vector<int> rest;
-        for (int i : meas_points[j])
-          if (claimed_by[i] < 0) rest.push_back(i);
-        if (rest.size() == meas_points[j].size()) continue;
-        const std::size_t keep_min = std::max<std::size_t>(
-            static_cast<std::size_t>(params_.segmentation.min_cluster_points), (3 * meas_points[j].size()) / 10);
-        if (params_.reassociation.split_matched && rest.size() >= keep_min) {
-          meas_points[j] = std::move(rest);  // split the merged cluster
-        } else {
-          for (int i : meas_points[j]) claimed_by[i] = -1;  // the match keeps its points
-        }
-      }
+      // A point measured by an object-level match stays with it: re-association recovers
+      // objects the matching lost, it does not split the clusters it matched.
+      for (std::size_t j = 0; j < n_old_tracks; ++j)
+        if (meas_how[j] == TO::ASSOC_OBJECT)
+          for (int i : meas_points[j]) claimed_by[i] = -1;
       for (std::size_t k = 0; k < lost.size(); ++k) {
         const int j = lost[k];
         std::vector<int> mine;
         for (int i : rec[k])
           if (claimed_by[i] == j) mine.push_back(i);
-        if (mine.size() < 2) continue;  // what is left after the split is too little to measure
+        if (mine.size() < 2) continue;  // what the matches left is too little to measure
         // Points centred away from the prediction belong to something else (typically the
         // occluder in front of a hidden object): not a recovery.
         Eigen::Vector2d c = Eigen::Vector2d::Zero();

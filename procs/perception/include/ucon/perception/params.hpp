@@ -80,7 +80,6 @@ struct ReassociationParams {
   double d0 = 0.6;           ///< point match distance [m], > 0
   double gamma = 0.35;       ///< required share of matched history points, (0, 1)
   int max_history_points = 64;  ///< history points kept per track (evenly thinned), >= 1
-  bool split_matched = false;  ///< may take points of clusters matched at object level (splits merges); false = the paper's P
   double max_shift = 0.4;    ///< recovered points must be centred this close to the prediction [m] (not the occluder in front)
   int max_consecutive = 25;  ///< frames in a row a track may live on re-association alone, >= 1
   void read(ConfigReader& r);
