@@ -28,6 +28,7 @@ std::string shippedText() {
 
 // Every key of perception.yaml as the field it loads into; the field path is the dotted key.
 #define UCON_PERCEPTION_KEYS(X)                                                                    \
+  X(paper.mu) X(paper.d0) X(paper.gamma)                                                           \
   X(association) X(pose_max_gap) X(frame_timeout)                                                  \
   X(preprocess.min_range) X(preprocess.max_range) X(preprocess.min_height)                         \
   X(preprocess.max_height) X(preprocess.accumulate_frames) X(preprocess.voxel_size)                \
@@ -43,7 +44,7 @@ std::string shippedText() {
   X(segmentation.view_center_shift) X(segmentation.occlusion_anchor)                               \
   X(segmentation.occlusion_margin) X(segmentation.static_persistence)                              \
   X(segmentation.static_cell) X(segmentation.static_max_gap)                                       \
-  X(object_association.mu) X(object_association.cost_gate) X(object_association.max_distance)      \
+  X(object_association.cost_gate) X(object_association.max_distance)                               \
   X(object_association.distance_growth) X(object_association.max_distance_cap)                     \
   X(object_association.direction_min_speed) X(object_association.fapp_gate)                        \
   X(object_association.gate_sigma) X(object_association.distance_weight)                           \
@@ -51,8 +52,7 @@ std::string shippedText() {
   X(object_association.cross_gate_growth) X(object_association.cross_gate_after)                   \
   X(object_association.cross_gate_until) X(object_association.cross_rank_weight)                   \
   X(object_association.size_floor) X(object_association.cascade_after)                             \
-  X(reassociation.enabled) X(reassociation.d0) X(reassociation.gamma)                              \
-  X(reassociation.max_history_points) X(reassociation.max_shift)    \
+  X(reassociation.enabled) X(reassociation.max_history_points) X(reassociation.max_shift)          \
   X(reassociation.max_consecutive)                                                                 \
   X(tracks.confirm_hits) X(tracks.confirm_min_speed) X(tracks.confirm_max_speed)                   \
   X(tracks.confirm_min_distance) X(tracks.confirm_moving_hits) X(tracks.max_stationary)            \
@@ -112,5 +112,5 @@ TEST(PerceptionParams, GivenABadValueThenLoadingFailsNamingItsKey) {
   std::vector<ucon::ConfigError> errors;
   EXPECT_FALSE(ucon::loadParams<PerceptionParams>(text, kShipped, &errors).has_value());
   ASSERT_EQ(errors.size(), 1u);
-  EXPECT_EQ(errors[0].key, "reassociation.gamma");
+  EXPECT_EQ(errors[0].key, "paper.gamma");
 }

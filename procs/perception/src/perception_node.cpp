@@ -193,7 +193,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   std::vector<DetectionView> dviews;
   for (int i : dyn) dviews.push_back({last_detections_[i].box});
   const std::vector<TrackView> tviews = trackViews(utime);
-  const Matching match = params_.useUcon() ? associateObjects(dviews, tviews, params_.object_association)
+  const Matching match = params_.useUcon() ? associateObjects(dviews, tviews, params_.paper.mu, params_.object_association)
                                            : associateNearest(dviews, tviews, params_.object_association);
   const std::size_t n_old_tracks = tracks_.size();
   std::vector<char> updated(n_old_tracks, 0);
@@ -227,13 +227,13 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
         lost.push_back(static_cast<int>(j));
     }
     if (!lost.empty() && !frame_points_.empty()) {
-      frame_index_.build(frame_points_, params_.reassociation.d0);  // only frames with a lost track need it
+      frame_index_.build(frame_points_, params_.paper.d0);  // only frames with a lost track need it
       std::vector<HistoricalObject> objs;
       for (int j : lost) {
         const Track& tr = tracks_[j];
         objs.push_back({tr.history, tr.kf.state().tail<3>(), seconds(utime - tr.last_seen_utime)});
       }
-      const auto rec = reassociate(objs, frame_index_, params_.reassociation.d0, params_.reassociation.gamma);
+      const auto rec = reassociate(objs, frame_index_, params_.paper.d0, params_.paper.gamma);
       std::vector<int> claimed_by(frame_points_.size(), -1);
       for (std::size_t k = 0; k < lost.size(); ++k)
         for (int i : rec[k]) claimed_by[i] = lost[k];

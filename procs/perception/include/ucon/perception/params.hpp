@@ -1,6 +1,8 @@
 #pragma once
 /// @file params.hpp
-/// Parameters of the perception node (deploy/config/perception.yaml maps onto them 1:1).
+/// Parameters of the perception node. deploy/config/perception.yaml maps onto them 1:1 and
+/// its values equal the in-class defaults (tests/perception/test_params.cpp): first the
+/// paper's parameters, then the engineering ones, stage by stage.
 
 #include <string>
 #include <vector>
@@ -11,6 +13,14 @@ namespace ucon {
 class ConfigReader;
 
 namespace perception {
+
+/// The paper's hyper-parameters (Sec. III; their values are those of Sec. V-A).
+struct PaperParams {
+  std::vector<double> mu{0.3, 0.3, 0.4};  ///< eq. 1: weights mu1..mu3 of the overlap, direction and size terms, each >= 0
+  double d0 = 0.6;      ///< eq. 2 / appendix: a history point matches a current point closer than this [m], > 0
+  double gamma = 0.35;  ///< appendix: recovered when more than gamma N_c history points match, (0, 1)
+  void read(ConfigReader& r);
+};
 
 /// Stage 1: world frame, crop, voxel down-sampling.
 struct PreprocessParams {
@@ -52,9 +62,8 @@ struct SegmentationParams {
   void read(ConfigReader& r);
 };
 
-/// Stage 3: object-level association (eq. 1) and the FAPP baseline.
+/// Stage 3: the gates and ranking around eq. 1 (PaperParams::mu), and the FAPP baseline.
 struct AssociationParams {
-  std::vector<double> mu{0.3, 0.3, 0.4};  ///< weights of IoU, direction and size terms of eq. 1, each >= 0
   double cost_gate = 1.3;            ///< pairs with f(c,h) above this are forbidden
   double max_distance = 1.0;         ///< pairs whose centres are farther apart are forbidden [m]
   double distance_growth = 1.0;      ///< ... plus this per second the track has not been seen [m/s]
@@ -74,11 +83,10 @@ struct AssociationParams {
   void read(ConfigReader& r);
 };
 
-/// Stage 4: point-level historical re-association (Sec. III-B, appendix algorithm).
+/// Stage 4: point-level historical re-association (Sec. III-B, appendix algorithm; d0 and
+/// gamma in PaperParams).
 struct ReassociationParams {
   bool enabled = true;       ///< off = object-level association only (ablation)
-  double d0 = 0.6;           ///< point match distance [m], > 0
-  double gamma = 0.35;       ///< required share of matched history points, (0, 1)
   int max_history_points = 64;  ///< history points kept per track (evenly thinned), >= 1
   double max_shift = 0.4;    ///< recovered points must be centred this close to the prediction [m] (not the occluder in front)
   int max_consecutive = 25;  ///< frames in a row a track may live on re-association alone, >= 1
@@ -126,6 +134,7 @@ inline kalman::KalmanParams trackFilterDefaults() {
 
 /// All of the node.
 struct PerceptionParams {
+  PaperParams paper;
   std::string association = "ucon";  ///< "ucon" (eq. 1 + Hungarian + re-association) or "fapp"
   double pose_max_gap = 0.1;          ///< a frame farther than this from any pose has a stale pose [s], > 0
   double frame_timeout = 0.2;         ///< no frame for this long (message time) -> outputs invalid [s]
