@@ -7,6 +7,7 @@
 
 #include "ucon/fast_atan2.hpp"
 #include "ucon/perception/footprint.hpp"
+#include "ucon/perception/outputs.hpp"
 #include "ucon/perception/registration.hpp"
 #include "ucon/perception/reassociation.hpp"
 #include "ucon/tracked_object_t.hpp"
@@ -100,21 +101,8 @@ void PerceptionNode::onPose(const robot_pose_t& pose) {
 
 PerceptionOutput PerceptionNode::invalidOutput(int64_t utime, int64_t frame_seq, const std::string& why) {
   PerceptionOutput out;
-  tracked_objects_t o{};
-  o.utime = utime;
-  o.seq = objects_seq_++;
-  o.valid = false;
-  o.frame_seq = frame_seq;
-  o.frame_id = "world";
-  o.num_objects = 0;
-  out.objects = std::move(o);
-  static_points_t s{};
-  s.utime = utime;
-  s.seq = static_seq_++;
-  s.valid = false;
-  s.max_range = static_cast<float>(params_.preprocess.max_range);
-  s.num_points = 0;
-  out.static_points = std::move(s);
+  out.objects = invalidObjects(utime, objects_seq_++, frame_seq);
+  out.static_points = invalidStatic(utime, static_seq_++, params_.preprocess.max_range);
   last_output_utime_ = utime;
   status_.count("invalid_outputs");
   status_.setHealth(process_status_t::HEALTH_WARN, why);
@@ -894,62 +882,29 @@ void PerceptionNode::manageTracks(int64_t utime, const std::vector<char>& update
 }
 
 tracked_objects_t PerceptionNode::buildObjects(int64_t utime, int64_t frame_seq) const {
-  tracked_objects_t o{};
-  o.utime = utime;
-  o.seq = objects_seq_;
-  o.valid = true;
-  o.frame_seq = frame_seq;
-  o.frame_id = "world";
+  std::vector<tracked_object_t> objects;
+  objects.reserve(tracks_.size());
   for (const auto& tr : tracks_) {
-    TO t{};
-    t.id = tr.id;
-    t.state = tr.state;
-    t.last_association = tr.last_association;
-    const auto& x = tr.kf.state();
-    t.x = x(0);
-    t.y = x(1);
-    t.z = x(2);
-    t.vx = x(3);
-    t.vy = x(4);
-    t.vz = x(5);
-    t.cov_size = 36;
-    t.cov.resize(36);
-    const auto& P = tr.kf.covariance();
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) t.cov[static_cast<std::size_t>(r * 6 + c)] = P(r, c);
-    t.size_x = std::max(tr.size.x(), 0.01);
-    t.size_y = std::max(tr.size.y(), 0.01);
-    t.size_z = std::max(tr.size_z, 0.01);
-    t.yaw = 0.0;
-    t.num_points = tr.num_points;
-    t.age_frames = tr.age_frames;
-    t.frames_since_seen = tr.misses;
-    o.objects.push_back(std::move(t));
+    ObjectEstimate e;
+    e.id = tr.id;
+    e.state = tr.state;
+    e.last_association = tr.last_association;
+    e.x = tr.kf.state();
+    e.P = tr.kf.covariance();
+    e.size << tr.size, tr.size_z;
+    e.num_points = tr.num_points;
+    e.age_frames = tr.age_frames;
+    e.frames_since_seen = tr.misses;
+    objects.push_back(toMessage(e));
   }
-  o.num_objects = static_cast<int32_t>(o.objects.size());
-  return o;
+  return objectsMessage(utime, objects_seq_, frame_seq, std::move(objects));
 }
 
 static_points_t PerceptionNode::buildStatic(int64_t utime, const Eigen::Isometry3d& T,
                                             const std::vector<char>& dynamic_point) const {
-  static_points_t s{};
-  s.utime = utime;
-  s.seq = static_seq_;
-  s.valid = true;
   const auto& so = params_.preprocess.sensor_origin;
-  const Eigen::Vector3d origin = T * Eigen::Vector3d(so[0], so[1], so[2]);
-  s.origin_x = origin.x();
-  s.origin_y = origin.y();
-  s.origin_z = origin.z();
-  s.max_range = static_cast<float>(params_.preprocess.max_range);
-  for (std::size_t i = 0; i < frame_points_.size(); ++i) {
-    if (dynamic_point[i]) continue;
-    s.x.push_back(frame_points_[i].x());
-    s.y.push_back(frame_points_[i].y());
-    s.z.push_back(frame_points_[i].z());
-  }
-  s.num_points = static_cast<int32_t>(s.x.size());
-  return s;
+  return staticMessage(utime, static_seq_, T * Eigen::Vector3d(so[0], so[1], so[2]), params_.preprocess.max_range,
+                       frame_points_, dynamic_point);
 }
 
 int PerceptionNode::freeBin(const Eigen::Vector3f& d) const {
