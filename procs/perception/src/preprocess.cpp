@@ -22,7 +22,7 @@ int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3
 
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f tr = T.translation().cast<float>();
-  const Eigen::Vector3f centre = tr;  // robot centre in the world
+  const Eigen::Vector3f centre = pose.translation().cast<float>();  // robot centre in the world
   const float min_r2 = static_cast<float>(p.min_range * p.min_range);
   const float max_r2 = static_cast<float>(p.max_range * p.max_range);
   Points kept;
