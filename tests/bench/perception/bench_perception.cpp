@@ -1,5 +1,5 @@
-// ucon-bench-perception: perception stability on the `pedestrians` scenario (paper Sec. V-B,
-// issue 4). The simulator's Mid-360 packets go through the driver's parser and frame assembly
+// ucon-bench-perception: perception stability on the `pedestrians` scenario (paper Sec. V-B).
+// The simulator's Mid-360 packets go through the driver's parser and frame assembly
 // into two perception nodes in the same run — UCON and the FAPP-style baseline — and
 // CLEAR-MOT compares their tracks with the simulator's ground truth. Prints a table, writes
 // JSON, and reports per-frame latency (median, p99) of each node.
