@@ -8,6 +8,7 @@
 using namespace ucon::perception;
 
 namespace {
+const std::vector<double> kMu = PaperParams{}.mu;  // eq. 1's weights as shipped: (0.3, 0.3, 0.4)
 BoxXY box(double cx, double cy, double sx, double sy) {
   BoxXY b;
   b.center = {cx, cy};
@@ -37,13 +38,13 @@ TEST(IouXY, GivenHalfOverlappingUnitBoxesThenIouIsOneThird) {
 }
 
 TEST(AssociationCost, GivenHandMadeBoxesThenEachTermOfEq1MatchesItsClosedForm) {
-  AssociationParams p;  // mu = (0.3, 0.3, 0.4)
+  AssociationParams p;
   // Identical box, no velocity: f = 0.
-  EXPECT_NEAR(associationCost({box(0, 0, 1, 1)}, track(box(0, 0, 1, 1)), p), 0.0, 1e-12);
+  EXPECT_NEAR(associationCost({box(0, 0, 1, 1)}, track(box(0, 0, 1, 1)), kMu, p), 0.0, 1e-12);
   // IoU 1/3: f = 0.3 * (1 - 1/3) = 0.2.
-  EXPECT_NEAR(associationCost({box(0.5, 0, 1, 1)}, track(box(0, 0, 1, 1)), p), 0.2, 1e-12);
+  EXPECT_NEAR(associationCost({box(0.5, 0, 1, 1)}, track(box(0, 0, 1, 1)), kMu, p), 0.2, 1e-12);
   // Size (1,2) vs (1,1), same centre: IoU 1/2 -> 0.15; size term 0.4 * |(0,1)| / |(1,1)|.
-  EXPECT_NEAR(associationCost({box(0, 0, 1, 2)}, track(box(0, 0, 1, 1)), p),
+  EXPECT_NEAR(associationCost({box(0, 0, 1, 2)}, track(box(0, 0, 1, 1)), kMu, p),
               0.15 + 0.4 / std::sqrt(2.0), 1e-12);
   // Direction: track moving +x at 1 m/s; the pair implies +y at 1 m/s (0.1 m in 0.1 s):
   // cos = 0 -> 0.3 * 1; IoU of the boxes (shifted 0.1 m in y): 0.9/1.1.
@@ -52,12 +53,12 @@ TEST(AssociationCost, GivenHandMadeBoxesThenEachTermOfEq1MatchesItsClosedForm) {
   h.has_velocity = true;
   h.since_last = 0.1;
   const double iou = 0.9 / 1.1;
-  EXPECT_NEAR(associationCost({box(0, 0.1, 1, 1)}, h, p), 0.3 * (1 - iou) + 0.3, 1e-12);
+  EXPECT_NEAR(associationCost({box(0, 0.1, 1, 1)}, h, kMu, p), 0.3 * (1 - iou) + 0.3, 1e-12);
   // Same direction: no direction cost.
-  EXPECT_NEAR(associationCost({box(0.1, 0, 1, 1)}, h, p), 0.3 * (1 - iou), 1e-12);
+  EXPECT_NEAR(associationCost({box(0.1, 0, 1, 1)}, h, kMu, p), 0.3 * (1 - iou), 1e-12);
   // Slow pair (0.1 m/s implied): the direction term fades by 0.1 / 0.3.
   h.since_last = 1.0;
-  EXPECT_NEAR(associationCost({box(0, 0.1, 1, 1)}, h, p), 0.3 * (1 - iou) + 0.3 * (0.1 / 0.3), 1e-12);
+  EXPECT_NEAR(associationCost({box(0, 0.1, 1, 1)}, h, kMu, p), 0.3 * (1 - iou) + 0.3 * (0.1 / 0.3), 1e-12);
 }
 
 TEST(AssociateObjects, GivenTwoTracksOfDifferentSizeCloseTogetherThenEq1MatchesBySizeWhereNearestFails) {
@@ -66,7 +67,7 @@ TEST(AssociateObjects, GivenTwoTracksOfDifferentSizeCloseTogetherThenEq1MatchesB
   std::vector<TrackView> tracks{track(box(0.0, 0, 0.4, 0.4)), track(box(0.6, 0, 1.0, 1.0))};
   // Detection 0 is large and 0.3 m from track 0; detection 1 small, 0.35 m from track 0.
   std::vector<DetectionView> dets{{box(0.3, 0, 1.0, 1.0)}, {box(0.35, 0.0, 0.4, 0.4)}};
-  const Matching m = associateObjects(dets, tracks, p);
+  const Matching m = associateObjects(dets, tracks, kMu, p);
   EXPECT_EQ(m.detection_to_track[0], 1);
   EXPECT_EQ(m.detection_to_track[1], 0);
   EXPECT_EQ(m.track_to_detection[0], 1);
@@ -77,19 +78,25 @@ TEST(AssociateObjects, GivenTwoTracksOfDifferentSizeCloseTogetherThenEq1MatchesB
 }
 
 TEST(AssociateObjects, GivenPairsBeyondTheGatesThenTheyStayUnmatched) {
-  AssociationParams p;
+  AssociationParams p;  // the shipped gates
   std::vector<TrackView> tracks{track(box(0, 0, 0.5, 0.5))};
-  // Same size 2 m away: eq. 1 gives only 0.3 (no IoU) but the distance gate forbids it.
-  EXPECT_EQ(associateObjects({{box(2, 0, 0.5, 0.5)}}, tracks, p).track_to_detection[0], -1);
-  // Close but three times the size: 0.3 * (1 - 1/9) + 0.4 * 2 > 0.9.
-  EXPECT_EQ(associateObjects({{box(0, 0, 1.5, 1.5)}}, tracks, p).track_to_detection[0], -1);
+  // Same size 2 m away: eq. 1 gives 0.3 * (1 + 0.6) (generalised IoU -0.6), within cost_gate,
+  // but the 1 m distance gate forbids it (seen alone: the Mahalanobis gate off).
+  ASSERT_LT(associationCost({box(2, 0, 0.5, 0.5)}, tracks[0], kMu, p), p.cost_gate);
+  p.gate_sigma = 0.0;
+  EXPECT_EQ(associateObjects({{box(2, 0, 0.5, 0.5)}}, tracks, kMu, p).track_to_detection[0], -1);
+  p.gate_sigma = AssociationParams{}.gate_sigma;
+  // Same place but four times the size: 0.3 * (1 - 1/16) + 0.4 * 3 = 1.48 > cost_gate 1.3.
+  EXPECT_EQ(associateObjects({{box(0, 0, 2.0, 2.0)}}, tracks, kMu, p).track_to_detection[0], -1);
+  // Three times the size passes: 0.3 * (1 - 1/9) + 0.4 * 2 = 1.07.
+  EXPECT_EQ(associateObjects({{box(0, 0, 1.5, 1.5)}}, tracks, kMu, p).track_to_detection[0], 0);
   EXPECT_EQ(associateNearest({{box(0.85, 0, 0.5, 0.5)}}, tracks, p).track_to_detection[0], -1);
   EXPECT_EQ(associateNearest({{box(0.75, 0, 0.5, 0.5)}}, tracks, p).track_to_detection[0], 0);
 }
 
 TEST(AssociateObjects, GivenNoTracksOrNoDetectionsThenNothingIsMatched) {
   AssociationParams p;
-  const Matching m = associateObjects({{box(0, 0, 1, 1)}}, {}, p);
+  const Matching m = associateObjects({{box(0, 0, 1, 1)}}, {}, kMu, p);
   ASSERT_EQ(m.detection_to_track.size(), 1u);
   EXPECT_EQ(m.detection_to_track[0], -1);
   EXPECT_TRUE(associateNearest({}, {track(box(0, 0, 1, 1))}, p).detection_to_track.empty());
@@ -119,14 +126,14 @@ TEST(AssociateObjects, GivenAMahalanobisGateThenAFarDetectionOfAConfidentTrackIs
   TrackView h = track(box(0, 0, 0.5, 0.5));
   h.position_cov = Eigen::Matrix2d::Identity() * 0.0025;  // sigma 5 cm -> total ~0.11 m
   // 0.5 m away: inside the 1 m distance gate, but 4.5 sigma.
-  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, p).detection_to_track[0], -1);
+  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, kMu, p).detection_to_track[0], -1);
   // The same track after coasting (covariance 0.2 m^2): the pair is allowed.
   h.position_cov = Eigen::Matrix2d::Identity() * 0.04;
-  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, p).detection_to_track[0], 0);
+  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, kMu, p).detection_to_track[0], 0);
   // Gate off: allowed whatever the covariance.
   p.gate_sigma = 0.0;
   h.position_cov = Eigen::Matrix2d::Identity() * 1e-6;
-  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, p).detection_to_track[0], 0);
+  EXPECT_EQ(associateObjects({{box(0.5, 0, 0.5, 0.5)}}, {h}, kMu, p).detection_to_track[0], 0);
 }
 
 TEST(AssociateObjects, GivenADistanceWeightThenTheNearerOfTwoGatedTracksWins) {
@@ -135,14 +142,17 @@ TEST(AssociateObjects, GivenADistanceWeightThenTheNearerOfTwoGatedTracksWins) {
   p.max_distance_cap = 3.0;
   // Both tracks' boxes miss the detection's box; the far one (2.0 m) has the detection's
   // size, the near one (0.9 m) a slightly different size, so eq. 1 alone prefers the far one.
-  const TrackView near_track = track(box(0.9, 0, 0.5, 0.9));
-  const TrackView far_track = track(box(-2.0, 0, 0.5, 0.5));
+  TrackView near_track = track(box(0.9, 0, 0.5, 0.9));
+  TrackView far_track = track(box(-2.0, 0, 0.5, 0.5));
+  // Uncertain predictions (1 m std): the Mahalanobis gate passes both.
+  near_track.position_cov = far_track.position_cov = Eigen::Matrix2d::Identity();
   const std::vector<DetectionView> det{{box(0, 0, 0.5, 0.5)}};
+  const double shipped = p.distance_weight;
   p.distance_weight = 0.0;
-  ASSERT_LT(associationCost(det[0], far_track, p), associationCost(det[0], near_track, p));
-  EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 1);
-  p.distance_weight = 1.0;
-  EXPECT_EQ(associateObjects(det, {near_track, far_track}, p).detection_to_track[0], 0);
+  ASSERT_LT(associationCost(det[0], far_track, kMu, p), associationCost(det[0], near_track, kMu, p));
+  EXPECT_EQ(associateObjects(det, {near_track, far_track}, kMu, p).detection_to_track[0], 1);
+  p.distance_weight = shipped;
+  EXPECT_EQ(associateObjects(det, {near_track, far_track}, kMu, p).detection_to_track[0], 0);
 }
 
 TEST(ReidentificationScore, GivenTwoCandidatesThenTheOneWhoseLineThePersonKeptWinsOverTheNearerOne) {
@@ -211,30 +221,27 @@ TEST(PassesCrossGate, GivenATrackUnseenForAWhileThenOnlyCentresNearItsLineArePas
 TEST(AssociateObjects, GivenACoastingTrackAndANeighbourReappearingBesideItsLineThenThePairIsForbidden) {
   // Person A (track) walked +y on x = 3 and is hidden; person B reappears on x = 3.7, within
   // every distance gate of A's prediction. Without the cross gate A takes B's detection.
-  AssociationParams p;
-  p.max_distance = 1.0;
-  p.direction_min_speed = 0.3;
+  AssociationParams p;  // shipped: cross gate 0.4 m + 0.15 m/s unseen
   TrackView a = coasting(box(3.0, 4.0, 0.5, 0.5), {0.0, 1.0}, 0.6);
   a.velocity = {0.0, 0.5};
   a.has_velocity = true;
   a.last_center = {3.0, 3.4};
+  a.position_cov = Eigen::Matrix2d::Identity() * 0.09;  // 0.3 m std after coasting: B is within 3.5 sigma
   const std::vector<DetectionView> det{{box(3.7, 4.1, 0.5, 0.5)}};
-  EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], 0);
-  p.cross_gate = 0.3;
-  p.cross_gate_growth = 0.15;
-  EXPECT_EQ(associateObjects(det, {a}, p).detection_to_track[0], -1);
+  const AssociationParams shipped;
+  p.cross_gate = 0.0;
+  EXPECT_EQ(associateObjects(det, {a}, kMu, p).detection_to_track[0], 0);
+  p.cross_gate = shipped.cross_gate;  // 0.4 + 0.15 * 0.6 = 0.49 m across; B is 0.7 m across
+  EXPECT_EQ(associateObjects(det, {a}, kMu, p).detection_to_track[0], -1);
   // A's own reappearance on its line, ahead of the decayed prediction, is still matched.
-  EXPECT_EQ(associateObjects({{box(3.05, 4.5, 0.5, 0.5)}}, {a}, p).detection_to_track[0], 0);
+  EXPECT_EQ(associateObjects({{box(3.05, 4.5, 0.5, 0.5)}}, {a}, kMu, p).detection_to_track[0], 0);
 }
 
 TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjectAgainstACoastingTrack) {
   // A partly hidden person's small view: eq. 1 prefers the coasting track (its faded direction
   // term and its size), the nearer track that saw the person last frame loses it without the
   // cascade.
-  AssociationParams p;
-  p.max_distance = 1.0;
-  p.distance_weight = 1.0;
-  p.cost_gate = 1.3;
+  AssociationParams p;  // shipped
   TrackView seen = track(box(3.53, -1.88, 0.5, 0.5));
   seen.since_last = 0.02;
   seen.has_velocity = true;
@@ -242,16 +249,18 @@ TEST(AssociateObjects, GivenAMatchingCascadeThenATrackSeenLastFrameKeepsItsObjec
   seen.last_center = {3.53, -1.90};
   const TrackView hidden = coasting(box(3.04, -1.80, 0.2, 0.3), {0.0, 0.0}, 2.2);
   const std::vector<DetectionView> det{{box(3.49, -2.0, 0.14, 0.3)}};
-  ASSERT_LT(associationCost(det[0], hidden, p) + (det[0].box.center - hidden.box.center).norm(),
-            associationCost(det[0], seen, p) + (det[0].box.center - seen.box.center).norm());
-  EXPECT_EQ(associateObjects(det, {seen, hidden}, p).detection_to_track[0], 1);
-  p.cascade_after = 0.1;
-  Matching m = associateObjects(det, {seen, hidden}, p);
+  ASSERT_LT(associationCost(det[0], hidden, kMu, p) + (det[0].box.center - hidden.box.center).norm(),
+            associationCost(det[0], seen, kMu, p) + (det[0].box.center - seen.box.center).norm());
+  const double shipped = p.cascade_after;
+  p.cascade_after = 0.0;  // one matching
+  EXPECT_EQ(associateObjects(det, {seen, hidden}, kMu, p).detection_to_track[0], 1);
+  p.cascade_after = shipped;  // 0.1 s
+  Matching m = associateObjects(det, {seen, hidden}, kMu, p);
   EXPECT_EQ(m.detection_to_track[0], 0);
   EXPECT_EQ(m.track_to_detection[1], -1);
   // The coasting track still takes a detection the recent tracks leave.
   const std::vector<DetectionView> two{{box(3.49, -2.0, 0.14, 0.3)}, {box(3.1, -1.7, 0.2, 0.3)}};
-  m = associateObjects(two, {seen, hidden}, p);
+  m = associateObjects(two, {seen, hidden}, kMu, p);
   EXPECT_EQ(m.detection_to_track[0], 0);
   EXPECT_EQ(m.detection_to_track[1], 1);
 }
@@ -260,16 +269,18 @@ TEST(AssociationCost, GivenATrackBoxShrunkByPartialViewsThenTheSizeTermIsMeasure
   // The track's box shrank to 0.16 x 0.07 m under partial views; the full view of the same
   // person (0.41 x 0.31) comes back.
   AssociationParams p;
-  p.mu = {0.0, 0.0, 1.0};  // the size term alone
+  const std::vector<double> mu{0.0, 0.0, 1.0};  // the size term alone
   const TrackView h = track(box(3.66, -3.64, 0.16, 0.07));
   const DetectionView c{box(3.68, -3.65, 0.41, 0.31)};
   const double change = std::hypot(0.41 - 0.16, 0.31 - 0.07);
-  EXPECT_NEAR(associationCost(c, h, p), change / std::hypot(0.16, 0.07), 1e-9);  // > 2
-  p.size_floor = 0.5;
-  EXPECT_NEAR(associationCost(c, h, p), change / 0.5, 1e-9);
+  const double shipped = p.size_floor;
+  p.size_floor = 0.0;
+  EXPECT_NEAR(associationCost(c, h, mu, p), change / std::hypot(0.16, 0.07), 1e-9);  // > 2
+  p.size_floor = shipped;  // 0.5 m
+  EXPECT_NEAR(associationCost(c, h, mu, p), change / 0.5, 1e-9);
   // A track box larger than the floor is unaffected.
   const TrackView big = track(box(3.66, -3.64, 0.5, 0.4));
-  EXPECT_NEAR(associationCost(c, big, p), std::hypot(0.09, 0.09) / std::hypot(0.5, 0.4), 1e-9);
+  EXPECT_NEAR(associationCost(c, big, mu, p), std::hypot(0.09, 0.09) / std::hypot(0.5, 0.4), 1e-9);
 }
 
 TEST(RankingDistance, GivenACoastingTrackThenTheOffsetAcrossItsHeadingCountsMore) {

@@ -6,13 +6,16 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <random>
 #include <set>
+#include <sstream>
 #include <vector>
 
 #include "synthetic_scene.hpp"
+#include "ucon/config.hpp"
 #include "ucon/perception/perception_node.hpp"
 #include "ucon/tracked_object_t.hpp"
 
@@ -22,9 +25,18 @@ using TO = ucon::tracked_object_t;
 
 namespace {
 
+// The shipped configuration (equal to the in-class defaults: test_params.cpp).
 PerceptionParams testParams() {
-  PerceptionParams p;  // defaults = deploy/config/perception.yaml
-  return p;
+  std::ifstream f("deploy/config/perception.yaml");  // tests run from the source root
+  std::stringstream text;
+  text << f.rdbuf();
+  std::vector<ucon::ConfigError> errors;
+  const auto p = ucon::loadParams<PerceptionParams>(text.str(), "deploy/config/perception.yaml", &errors);
+  if (!p) {
+    ADD_FAILURE() << "deploy/config/perception.yaml: " << (errors.empty() ? "not found" : errors[0].toString());
+    return PerceptionParams{};
+  }
+  return *p;
 }
 
 const TO* nearestConfirmed(const ucon::tracked_objects_t& o, double x, double y, double gate = 0.6) {
@@ -345,6 +357,36 @@ TEST(PerceptionNode, GivenTheSameInputTwiceThenOutputsAreByteIdentical) {
     EXPECT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b) << method;
   }
+}
+
+TEST(PerceptionNode, GivenTheSameSceneAsABaseFrameAndAsAWorldFrameCloudThenOutputsAreByteIdentical) {
+  // The robot stands at (20, 0): its own body and the crop range are around it, not around the
+  // world origin, whichever frame the points come in.
+  const std::vector<scene::Person> people{{2.0, -1.0, 1.0, 0.0}};
+  const auto encode = [](const auto& m) {
+    std::vector<uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
+    m.encode(b.data(), 0, static_cast<int>(b.size()));
+    return b;
+  };
+  PerceptionNode in_base(testParams()), in_world(testParams());
+  scene::Generator gen_base, gen_world;
+  int differing = 0, confirmed = 0;
+  for (int k = 0; k < 100; ++k) {
+    auto pose = scene::pose(scene::frameTime(k));
+    pose.x = 20.0;
+    in_base.onPose(pose);
+    in_world.onPose(pose);
+    const auto base = gen_base.frame(k, people, kWalls);
+    auto world = gen_world.frame(k, people, kWalls);
+    world.frame_id = "world";
+    for (auto& x : world.x) x += 20.0f;
+    const auto a = in_base.onPoints(base), b = in_world.onPoints(world);
+    ASSERT_TRUE(a.objects && b.objects && a.static_points && b.static_points);
+    differing += encode(*a.objects) != encode(*b.objects) || encode(*a.static_points) != encode(*b.static_points);
+    confirmed += nearestConfirmed(*b.objects, 20.0 + people[0].x(k * 0.02), people[0].y(k * 0.02)) != nullptr;
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(confirmed, 40);  // confirmed from about 1.1 s on: the motion test needs 1 s of history
 }
 
 TEST(PerceptionNode, GivenTheFappBaselineThenItTracksAndNeverReassociates) {

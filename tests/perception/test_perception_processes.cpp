@@ -24,7 +24,7 @@
 
 namespace {
 
-// LCM and UDP ports of this test (issue-4 range 7780-7799).
+// LCM and UDP ports of this test (the perception tests use 7780-7799).
 constexpr const char* kUrl = "udpm://239.255.76.67:7780?ttl=0";
 
 std::string readFile(const std::string& p) {

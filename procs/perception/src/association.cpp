@@ -32,7 +32,8 @@ double giouXY(const BoxXY& a, const BoxXY& b) {
   return iou - (hull - uni) / hull;
 }
 
-double associationCost(const DetectionView& c, const TrackView& h, const AssociationParams& p) {
+double associationCost(const DetectionView& c, const TrackView& h, const std::vector<double>& mu,
+                       const AssociationParams& p) {
   // Term 1: x-y overlap of c's box and h's box at its predicted position. u is the
   // generalised IoU (equal to the IoU minus the share of the enclosing box not covered by
   // either box): for overlapping boxes it behaves like the paper's IoU, and once the boxes
@@ -55,7 +56,7 @@ double associationCost(const DetectionView& c, const TrackView& h, const Associa
   // different object.
   const double sh = std::max(h.box.size.norm(), std::max(p.size_floor, 0.05));
   const double size = (c.box.size - h.box.size).norm() / sh;
-  return p.mu[0] * (1.0 - iou) + p.mu[1] * dir + p.mu[2] * size;
+  return mu[0] * (1.0 - iou) + mu[1] * dir + mu[2] * size;
 }
 
 double mahalanobis2(const DetectionView& c, const TrackView& h, const AssociationParams& p) {
@@ -117,8 +118,8 @@ double rankingDistance(const Eigen::Vector2d& center, const TrackView& h, const 
   return std::sqrt(along * along + cross * cross);
 }
 
-Matching associateObjects(const std::vector<DetectionView>& detections,
-                          const std::vector<TrackView>& tracks, const AssociationParams& p) {
+Matching associateObjects(const std::vector<DetectionView>& detections, const std::vector<TrackView>& tracks,
+                          const std::vector<double>& mu, const AssociationParams& p) {
   Matching m;
   m.detection_to_track.assign(detections.size(), -1);
   m.track_to_detection.assign(tracks.size(), -1);
@@ -130,7 +131,7 @@ Matching associateObjects(const std::vector<DetectionView>& detections,
       if (!(d <= distanceGate(tracks[j], p))) continue;
       if (p.gate_sigma > 0.0 && !(mahalanobis2(detections[i], tracks[j], p) <= p.gate_sigma * p.gate_sigma)) continue;
       if (!passesCrossGate(detections[i].box.center, tracks[j], p)) continue;
-      const double f = associationCost(detections[i], tracks[j], p);
+      const double f = associationCost(detections[i], tracks[j], mu, p);
       // The gate applies to eq. 1; the distance term only ranks the pairs that pass it (a
       // long-coasting track with a wide gate must not win over a nearer one).
       if (std::isfinite(f) && f <= p.cost_gate) cost(i, j) = f + p.distance_weight * rankingDistance(detections[i].box.center, tracks[j], p);

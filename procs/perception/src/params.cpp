@@ -5,6 +5,12 @@
 namespace ucon {
 namespace perception {
 
+void PaperParams::read(ConfigReader& r) {
+  r.read("mu", mu, 3, 0.0, 100.0);
+  r.read("d0", d0, 1e-3, 10.0);
+  r.read("gamma", gamma, 1e-3, 0.999);
+}
+
 void PreprocessParams::read(ConfigReader& r) {
   r.read("min_range", min_range, 0.0, 10.0);
   r.read("max_range", max_range, 0.1, 200.0);
@@ -49,7 +55,6 @@ void SegmentationParams::read(ConfigReader& r) {
 }
 
 void AssociationParams::read(ConfigReader& r) {
-  r.read("mu", mu, 3, 0.0, 100.0);
   r.read("cost_gate", cost_gate, 0.0, 100.0);
   r.read("max_distance", max_distance, 0.01, 20.0);
   r.read("distance_growth", distance_growth, 0.0, 20.0);
@@ -70,10 +75,7 @@ void AssociationParams::read(ConfigReader& r) {
 
 void ReassociationParams::read(ConfigReader& r) {
   r.read("enabled", enabled);
-  r.read("d0", d0, 1e-3, 10.0);
-  r.read("gamma", gamma, 1e-3, 0.999);
   r.read("max_history_points", max_history_points, 1, 100000);
-  r.read("split_matched", split_matched);
   r.read("max_shift", max_shift, 0.01, 10.0);
   r.read("max_consecutive", max_consecutive, 1, 100000);
 }
@@ -104,6 +106,8 @@ void TrackParams::read(ConfigReader& r) {
 }
 
 void PerceptionParams::read(ConfigReader& r) {
+  auto pp = r.section("paper");
+  paper.read(pp);
   r.read("association", association, {"ucon", "fapp"});
   r.read("pose_max_gap", pose_max_gap, 1e-3, 10.0);
   r.read("frame_timeout", frame_timeout, 1e-3, 60.0);

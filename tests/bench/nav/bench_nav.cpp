@@ -38,6 +38,7 @@
 #include "ucon/cpu_time.hpp"
 #include "ucon/lidar_driver/driver_params.hpp"
 #include "ucon/mission/mission_node.hpp"
+#include "ucon/perception/outputs.hpp"
 #include "ucon/planner/planner_params.hpp"
 #include "ucon/replay/node_adapter.hpp"
 #include "ucon/replay/sim_recorder.hpp"
@@ -225,34 +226,20 @@ class OracleObjectsAdapter : public rp::NodeAdapter {
     ucon::sim_ground_truth_t& g = last_gt_;
     if (!rp::decodeExact(data, size, &g)) return rp::FeedResult::kDecodeError;
     if (!replace_objects_) return rp::FeedResult::kHandled;
-    ucon::tracked_objects_t o{};
-    o.utime = g.utime;
-    o.seq = seq_++;
-    o.valid = true;
-    o.frame_seq = -1;
-    o.frame_id = "world";
+    std::vector<ucon::tracked_object_t> objects;
     for (const auto& s : g.objects) {
       if (std::hypot(s.x - g.robot_x, s.y - g.robot_y) > range_) continue;
-      ucon::tracked_object_t t{};
-      t.id = s.id;
-      t.state = ucon::tracked_object_t::STATE_CONFIRMED;
-      t.last_association = ucon::tracked_object_t::ASSOC_OBJECT;
-      t.x = s.x;
-      t.y = s.y;
-      t.z = 0.5 * s.height;
-      t.vx = s.vx;
-      t.vy = s.vy;
-      t.cov_size = 36;
-      t.cov.assign(36, 0.0);
-      for (int k = 0; k < 6; ++k) t.cov[static_cast<std::size_t>(k * 7)] = k < 3 ? 0.05 * 0.05 : 0.1 * 0.1;
-      t.size_x = t.size_y = 2.0 * s.radius;
-      t.size_z = s.height;
-      t.num_points = 10;
-      t.age_frames = 100;
-      o.objects.push_back(t);
+      ucon::perception::ObjectEstimate e;  // confirmed, measured at object level
+      e.id = s.id;
+      e.x << s.x, s.y, 0.5 * s.height, s.vx, s.vy, 0.0;
+      e.P.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
+      e.size << 2.0 * s.radius, 2.0 * s.radius, s.height;
+      e.num_points = 10;
+      e.age_frames = 100;
+      objects.push_back(ucon::perception::toMessage(e));
     }
-    o.num_objects = static_cast<int32_t>(o.objects.size());
-    out->push_back(rp::encodeOutput(ucon::channels::kPerceptionObjects, o));
+    out->push_back(rp::encodeOutput(ucon::channels::kPerceptionObjects,
+                                    ucon::perception::objectsMessage(g.utime, seq_++, -1, std::move(objects))));
     return rp::FeedResult::kHandled;
   }
 

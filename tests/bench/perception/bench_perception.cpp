@@ -1,5 +1,5 @@
-// ucon-bench-perception: perception stability on the `pedestrians` scenario (paper Sec. V-B,
-// issue 4). The simulator's Mid-360 packets go through the driver's parser and frame assembly
+// ucon-bench-perception: perception stability on the `pedestrians` scenario (paper Sec. V-B).
+// The simulator's Mid-360 packets go through the driver's parser and frame assembly
 // into two perception nodes in the same run — UCON and the FAPP-style baseline — and
 // CLEAR-MOT compares their tracks with the simulator's ground truth. Prints a table, writes
 // JSON, and reports per-frame latency (median, p99) of each node.
@@ -22,6 +22,7 @@
 #include "ucon/lidar_driver/lidar_driver_node.hpp"
 #include "ucon/mot/clear_mot.hpp"
 #include "ucon/mot/runtime_frames.hpp"
+#include "ucon/perception/outputs.hpp"
 #include "ucon/perception/perception_node.hpp"
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
@@ -210,7 +211,8 @@ int main(int argc, char** argv) {
             m.velocity_error.push_back(e);
             // The track's own velocity std (mean of the x and y variances): is the error it
             // reports to the planner the error it has?
-            const double sv = t.cov.size() == 36 ? std::sqrt(0.5 * (t.cov[21] + t.cov[28])) : NAN;
+            ucon::kalman::Cov6 P;
+            const double sv = ucon::perception::covarianceOf(t, &P) ? std::sqrt(0.5 * (P(3, 3) + P(4, 4))) : NAN;
             if (!(e <= 2.0 * sv)) ++m.velocity_over_2sigma;
             if (trace && e > 0.5)
               std::fprintf(trace, "%s dv %.2f gt %lld track %lld err %.2f v %.2f %.2f true %.2f %.2f age %d assoc %d pts %d st %d off %.2f sv %.2f\n",

@@ -6,6 +6,7 @@
 
 #include "ucon/cpu_time.hpp"
 #include "ucon/kalman/constant_velocity_kalman.hpp"
+#include "ucon/perception/outputs.hpp"
 #include "ucon/planner/planner_node.hpp"
 #include "ucon/status_report.hpp"
 #include "ucon/trajectory/piecewise_polynomial.hpp"
@@ -148,27 +149,14 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
         f.predict(dt);
         f.updatePosition(z);
       }
-      tracked_object_t to{};
-      to.id = o.id;
-      to.state = tracked_object_t::STATE_CONFIRMED;
-      to.last_association = tracked_object_t::ASSOC_OBJECT;
-      const auto& x = f.state();
-      to.x = x(0);
-      to.y = x(1);
-      to.z = x(2);
-      to.vx = x(3);
-      to.vy = x(4);
-      to.vz = x(5);
-      to.cov_size = 36;
-      to.cov.resize(36);
-      for (int r = 0; r < 6; ++r)
-        for (int q = 0; q < 6; ++q) to.cov[r * 6 + q] = f.covariance()(r, q);
-      to.size_x = 2.0 * o.radius;
-      to.size_y = 2.0 * o.radius;
-      to.size_z = o.height;
-      to.num_points = 50;
-      to.age_frames = k + 1;
-      objs.objects.push_back(std::move(to));
+      perception::ObjectEstimate e;  // confirmed, measured at object level
+      e.id = o.id;
+      e.x = f.state();
+      e.P = f.covariance();
+      e.size << 2.0 * o.radius, 2.0 * o.radius, o.height;
+      e.num_points = 50;
+      e.age_frames = k + 1;
+      objs.objects.push_back(perception::toMessage(e));
     }
     objs.num_objects = int32_t(objs.objects.size());
     node.onObjects(objs);

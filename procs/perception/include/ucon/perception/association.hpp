@@ -60,14 +60,16 @@ double mahalanobis2(const DetectionView& c, const TrackView& h, const Associatio
 /// unseen (a coasting prediction drifts), capped at max_distance_cap.
 double distanceGate(const TrackView& h, const AssociationParams& p);
 
-/// Eq. 1: f(c,h) = mu1 (1 - u(c,h)) + mu2 (1 - v^_c . v^_h) + mu3 |s_c - s_h| / |s_h|, with u
-/// the generalised IoU of the x-y boxes (= IoU when one box contains the other; see .cpp).
+/// Eq. 1: f(c,h) = mu1 (1 - u(c,h)) + mu2 (1 - v^_c . v^_h) + mu3 |s_c - s_h| / |s_h|, with
+/// `mu` = (mu1, mu2, mu3) and u the generalised IoU of the x-y boxes (= IoU when one box
+/// contains the other; see .cpp).
 ///
 /// The direction of c is the velocity the pair implies, (centre_c - last centre_h) / dt.
 /// Directions of slow objects are noise and a new track has none: the direction term is
 /// scaled by min(1, min(|v_c|, |v_h|) / direction_min_speed), and is 0 without a velocity.
 /// |s_h| is floored at size_floor (a track box shrunk by partial views stays comparable).
-double associationCost(const DetectionView& c, const TrackView& h, const AssociationParams& p);
+double associationCost(const DetectionView& c, const TrackView& h, const std::vector<double>& mu,
+                       const AssociationParams& p);
 
 /// Re-identification ranking (lower is better) of a candidate last seen at `last` with velocity
 /// `seen_velocity`, `dt` seconds before a new track appeared at `first`. People mostly keep
@@ -90,12 +92,12 @@ struct Matching {
   std::vector<int> track_to_detection;
 };
 
-/// UCON: Hungarian matching on eq. 1; pairs above cost_gate, with centres farther than
+/// UCON: Hungarian matching on eq. 1 (weights `mu`); pairs above cost_gate, with centres farther than
 /// distanceGate(), outside the Mahalanobis gate or failing passesCrossGate() are forbidden.
 /// With cascade_after > 0 the tracks seen within cascade_after are matched first and the
 /// others then match the detections left (a matching cascade by time unseen).
-Matching associateObjects(const std::vector<DetectionView>& detections,
-                          const std::vector<TrackView>& tracks, const AssociationParams& p);
+Matching associateObjects(const std::vector<DetectionView>& detections, const std::vector<TrackView>& tracks,
+                          const std::vector<double>& mu, const AssociationParams& p);
 
 /// FAPP baseline: repeatedly take the closest remaining (track, detection) centre pair
 /// within fapp_gate [m] (ties broken by lower track, then detection index).

@@ -1,6 +1,8 @@
 #pragma once
 /// @file params.hpp
-/// Parameters of the perception node (deploy/config/perception.yaml maps onto them 1:1).
+/// Parameters of the perception node. deploy/config/perception.yaml maps onto them 1:1 and
+/// its values equal the in-class defaults (tests/perception/test_params.cpp): first the
+/// paper's parameters, then the engineering ones, stage by stage.
 
 #include <string>
 #include <vector>
@@ -11,6 +13,14 @@ namespace ucon {
 class ConfigReader;
 
 namespace perception {
+
+/// The paper's hyper-parameters (Sec. III; their values are those of Sec. V-A).
+struct PaperParams {
+  std::vector<double> mu{0.3, 0.3, 0.4};  ///< eq. 1: weights mu1..mu3 of the overlap, direction and size terms, each >= 0
+  double d0 = 0.6;      ///< eq. 2 / appendix: a history point matches a current point closer than this [m], > 0
+  double gamma = 0.35;  ///< appendix: recovered when more than gamma N_c history points match, (0, 1)
+  void read(ConfigReader& r);
+};
 
 /// Stage 1: world frame, crop, voxel down-sampling.
 struct PreprocessParams {
@@ -52,35 +62,32 @@ struct SegmentationParams {
   void read(ConfigReader& r);
 };
 
-/// Stage 3: object-level association (eq. 1) and the FAPP baseline.
+/// Stage 3: the gates and ranking around eq. 1 (PaperParams::mu), and the FAPP baseline.
 struct AssociationParams {
-  std::vector<double> mu{0.3, 0.3, 0.4};  ///< weights of IoU, direction and size terms of eq. 1, each >= 0
-  double cost_gate = 0.9;            ///< pairs with f(c,h) above this are forbidden
+  double cost_gate = 1.3;            ///< pairs with f(c,h) above this are forbidden
   double max_distance = 1.0;         ///< pairs whose centres are farther apart are forbidden [m]
   double distance_growth = 1.0;      ///< ... plus this per second the track has not been seen [m/s]
   double max_distance_cap = 2.5;     ///< upper bound of the grown distance gate [m]
   double direction_min_speed = 0.3;  ///< below this speed the direction term fades out [m/s], > 0
   double fapp_gate = 0.8;            ///< FAPP baseline: greedy nearest-centroid gate [m]
-  double gate_sigma = 0.0;           ///< Mahalanobis gate on the predicted centre (Kalman covariance + centroid_std); 0 = off
-  double distance_weight = 0.0;      ///< cost per metre of centre distance added to eq. 1 for ranking (not gated)
+  double gate_sigma = 3.5;           ///< Mahalanobis gate on the predicted centre (Kalman covariance + centroid_std); 0 = off
+  double distance_weight = 1.0;      ///< cost per metre of centre distance added to eq. 1 for ranking (not gated)
   double centroid_std = 0.15;        ///< [m] spread of a cluster centre around the body centre (partial views, merges)
-  double cross_gate = 0.0;           ///< a track unseen for cross_gate_after takes no centre farther than this across its last heading [m]; 0 = off
-  double cross_gate_growth = 0.0;    ///< ... plus this per second unseen [m/s]
+  double cross_gate = 0.4;           ///< a track unseen for cross_gate_after takes no centre farther than this across its last heading [m]; 0 = off
+  double cross_gate_growth = 0.15;    ///< ... plus this per second unseen [m/s]
   double cross_gate_after = 0.1;     ///< unseen this long before the cross gate applies [s]
   double cross_gate_until = 2.0;     ///< ... and no longer than this (a longer hiding may hide a turn) [s]
-  double cross_rank_weight = 1.0;    ///< rankingDistance(): weight of the offset across a coasting track's heading (1 = plain distance)
-  double size_floor = 0.0;           ///< eq. 1's size term divides by max(|s_h|, this) [m]
-  double cascade_after = 0.0;        ///< tracks seen within this are matched before the others [s]; 0 = one matching
+  double cross_rank_weight = 3.0;    ///< rankingDistance(): weight of the offset across a coasting track's heading (1 = plain distance)
+  double size_floor = 0.5;           ///< eq. 1's size term divides by max(|s_h|, this) [m]
+  double cascade_after = 0.1;        ///< tracks seen within this are matched before the others [s]; 0 = one matching
   void read(ConfigReader& r);
 };
 
-/// Stage 4: point-level historical re-association (Sec. III-B, appendix algorithm).
+/// Stage 4: point-level historical re-association (Sec. III-B, appendix algorithm; d0 and
+/// gamma in PaperParams).
 struct ReassociationParams {
   bool enabled = true;       ///< off = object-level association only (ablation)
-  double d0 = 0.6;           ///< point match distance [m], > 0
-  double gamma = 0.35;       ///< required share of matched history points, (0, 1)
   int max_history_points = 64;  ///< history points kept per track (evenly thinned), >= 1
-  bool split_matched = false;  ///< may take points of clusters matched at object level (splits merges); false = the paper's P
   double max_shift = 0.4;    ///< recovered points must be centred this close to the prediction [m] (not the occluder in front)
   int max_consecutive = 25;  ///< frames in a row a track may live on re-association alone, >= 1
   void read(ConfigReader& r);
@@ -98,7 +105,7 @@ struct TrackParams {
   double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
   double reid_margin = 0.5;         ///< [m]
   double reid_window = 8.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
-  double reid_cross_speed = 0.0;    ///< candidates are ranked with reid_speed along and this across their last heading [m/s]; 0 = by plain distance
+  double reid_cross_speed = 0.1;    ///< candidates are ranked with reid_speed along and this across their last heading [m/s]; 0 = by plain distance
   double merge_margin = 0.3;        ///< a matched cluster larger than the track's box by this is a merge [m]
   double tentative_max_age = 1.0;   ///< a tentative track older than this is deleted [s]
   int tentative_max_misses = 2;     ///< consecutive misses that delete a tentative track, >= 1
@@ -113,8 +120,21 @@ struct TrackParams {
   void read(ConfigReader& r);
 };
 
+/// The track filter's noise (common/kalman, Sec. IV-A) as perception ships it: a cluster centre
+/// is noisier than the filter library's generic default (partial views, merges).
+inline kalman::KalmanParams trackFilterDefaults() {
+  kalman::KalmanParams k;
+  k.accel_psd_xy = 0.5;
+  k.accel_psd_z = 0.05;
+  k.position_std = 0.08;
+  k.velocity_std = 0.4;
+  k.initial_velocity_std = 1.0;
+  return k;
+}
+
 /// All of the node.
 struct PerceptionParams {
+  PaperParams paper;
   std::string association = "ucon";  ///< "ucon" (eq. 1 + Hungarian + re-association) or "fapp"
   double pose_max_gap = 0.1;          ///< a frame farther than this from any pose has a stale pose [s], > 0
   double frame_timeout = 0.2;         ///< no frame for this long (message time) -> outputs invalid [s]
@@ -123,7 +143,7 @@ struct PerceptionParams {
   AssociationParams object_association;
   ReassociationParams reassociation;
   TrackParams tracks;
-  kalman::KalmanParams kalman;
+  kalman::KalmanParams kalman = trackFilterDefaults();
   void read(ConfigReader& r);
   bool useUcon() const { return association == "ucon"; }
 };

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include "ucon/perception/association.hpp"
+#include "ucon/perception/params.hpp"
 #include "ucon/perception/point_index.hpp"
 #include "ucon/perception/proximity_index.hpp"
 
@@ -29,6 +31,38 @@ struct HistoricalObject {
 /// `index` is built over P; cells of about d0 keep each query to a few cells.
 std::vector<std::vector<int>> reassociate(const std::vector<HistoricalObject>& objects,
                                           const ProximityIndex& index, double d0, double gamma);
+
+/// A track left unmatched by object-level association, as point-level recovery sees it.
+struct LostTrack {
+  HistoricalObject history;  ///< T_c, v_c, tau
+  TrackView view;            ///< its prediction (box.center) and heading, for the gates
+};
+
+/// What point-level recovery gives the frame.
+struct Recovery {
+  /// Per lost track (in the given order): the frame points that measure it now, empty when it
+  /// is not recovered.
+  std::vector<std::vector<int>> points;
+  /// Per frame point: some lost track's re-association claimed it (whether or not that track
+  /// was then recovered); points measured by an object-level match stay unclaimed.
+  std::vector<char> claimed;
+};
+
+/// Stage 4 of the pipeline: the appendix algorithm over every point of the frame (`index` is
+/// built over `points`), and its conflicts resolved:
+///  - a point measured by an object-level match (`matched`: the points of each match) stays
+///    with it, and the lost track keeps the rest of what it re-associated;
+///  - fewer than 2 points left, a centre farther than max_shift from the track's prediction
+///    (typically the occluder in front of a hidden object), or a view-corrected centre outside
+///    the track's cross-heading gate (passesCrossGate: a neighbour on the next line) is not a
+///    recovery.
+Recovery recoverLostTracks(const std::vector<LostTrack>& lost, const Points& points, const ProximityIndex& index,
+                           const std::vector<const std::vector<int>*>& matched, const Eigen::Vector2d& sensor_xy,
+                           const PerceptionParams& params);
+
+/// Whether a cluster (`indices` into the frame) lies mostly (at least half) on points that
+/// recovery claimed: it is the recovered objects', not a new one.
+bool mostlyClaimed(const std::vector<int>& indices, const std::vector<char>& claimed);
 
 }  // namespace perception
 }  // namespace ucon

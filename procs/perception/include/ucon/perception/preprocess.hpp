@@ -1,0 +1,55 @@
+#pragma once
+/// @file preprocess.hpp
+/// Stage 1 of the pipeline: a LiDAR frame in the world frame, cropped to the space objects
+/// occupy, merged with the previous frame(s) and voxel down-sampled; with the nearest return
+/// in each direction, which the later stages use as free-space evidence.
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "ucon/perception/angular_grid.hpp"
+#include "ucon/perception/params.hpp"
+#include "ucon/perception/point_index.hpp"
+#include "ucon/point_cloud_t.hpp"
+
+namespace ucon {
+namespace perception {
+
+/// One processed frame and what the stages learn about its points.
+struct Frame {
+  int64_t utime = 0;                                          ///< frame time [us]
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();     ///< robot (base) to world at utime
+  Eigen::Vector2d robot_xy = Eigen::Vector2d::Zero();         ///< robot position [m]
+  Eigen::Vector3f sensor_origin = Eigen::Vector3f::Zero();    ///< sensor origin, world [m]
+  /// Every return of the newest frame outside the robot's body, ground and far ones included:
+  /// the space their rays crossed was free (world [m]).
+  Points returns;
+  Points points;  ///< pre-processed: cropped, the last frames merged, voxel down-sampled (world [m])
+  /// Nearest return (`points` and `returns`) per bin of the motion-test grid [m]; inf = none.
+  std::vector<float> nearest_fine;
+  /// Nearest pre-processed point per bin of the "seen through" grid [m]; inf = none.
+  std::vector<float> nearest_coarse;
+  std::vector<char> moved;  ///< per point of `points`: failed the motion test (set by detection)
+};
+
+class Preprocessor {
+ public:
+  /// `fine`: the motion test's bins (segmentation.free_space_bin_deg); `coarse`: the bins of the
+  /// "seen through" check of unseen tracks (tracks.free_bin_deg).
+  Preprocessor(const PreprocessParams& params, const AngularGrid& fine, const AngularGrid& coarse);
+
+  /// Fills `frame` from a cloud in the base frame (or already in the world frame) with the
+  /// robot's pose at its time. Non-finite points are dropped; returns how many.
+  int64_t process(const point_cloud_t& cloud, const Eigen::Isometry3d& pose, Frame* frame);
+
+ private:
+  PreprocessParams params_;
+  AngularGrid fine_, coarse_;
+  std::deque<Points> recent_cropped_;  ///< cropped world points of the last frames (accumulation)
+};
+
+}  // namespace perception
+}  // namespace ucon

@@ -1,0 +1,128 @@
+#include "ucon/perception/motion_test.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ucon {
+namespace perception {
+
+namespace {
+double seconds(int64_t dt_us) { return static_cast<double>(dt_us) * 1e-6; }
+}  // namespace
+
+MotionTest::MotionTest(const SegmentationParams& params, const AngularGrid& grid) : params_(params), grid_(grid) {}
+
+void MotionTest::selectReference(int64_t utime) {
+  const SegmentationParams& s = params_;
+  ref_chunks_.clear();
+  for (const auto& h : history_) {
+    if (!h.closed || h.index.size() == 0) continue;
+    if (seconds(utime - h.last_utime) >= s.history_min_age && seconds(utime - h.first_utime) <= s.history_max_age)
+      ref_chunks_.push_back(&h);
+  }
+  if (!ref_chunks_.empty()) {
+    const double covered = seconds(ref_chunks_.back()->last_utime - ref_chunks_.front()->first_utime);
+    if (covered < 0.6 * (s.history_max_age - s.history_min_age)) ref_chunks_.clear();
+  }
+}
+
+int MotionTest::markMoved(const Frame& frame, const std::vector<int>& indices, const Eigen::Vector2d& center,
+                          std::vector<char>* moved) const {
+  const SegmentationParams& s = params_;
+  const double range = (center - frame.robot_xy).norm();
+  const double dist = s.motion_distance + s.motion_distance_per_m * range;
+  const auto motion_d2 = static_cast<float>(dist * dist);
+  int n = 0;
+  for (int i : indices) {
+    bool near = false;
+    for (const HistoryChunk* c : ref_chunks_) {
+      if (c->index.anyWithin(frame.points[i], motion_d2)) {
+        near = true;
+        break;
+      }
+    }
+    if (near) continue;
+    const bool m = pointMoved(frame, frame.points[i]);
+    n += m ? 1 : 0;
+    (*moved)[i] = m ? 1 : 0;
+  }
+  return n;
+}
+
+bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const {
+  // A point with no reference point nearby is new surface. It is motion, not a disocclusion,
+  // when some reference chunk (seen from its own sensor origin) either
+  //  - saw past it along its ray: the space it occupies now was free (an object moving in), or
+  //  - saw only nearer returns along its ray, and this frame sees through the farthest of
+  //    them: what stood in front of the point then has gone (an object moving away; its new
+  //    surface lies behind its old one, where the reference could not look).
+  // Parallax from the robot's own motion fails both: the occluder is still there.
+  // A direction no reference chunk looked in counts as moved (nothing was known to be there).
+  // The vanishing test needs every chunk to have stopped short of the point: one ray of the
+  // window passing beside a nearer edge in the same bin makes the bin ambiguous.
+  const float margin = static_cast<float>(params_.free_space_margin);
+  float best_seen = 0.0f, best_range = 0.0f;
+  const HistoryChunk* best = nullptr;
+  for (const HistoryChunk* c : ref_chunks_) {
+    const Eigen::Vector3f ray = p - c->origin;
+    const float range = ray.norm();
+    if (!(range > 0.0f)) continue;
+    const float seen = c->max_range[static_cast<std::size_t>(grid_.bin(ray))];
+    if (seen == 0.0f) continue;
+    if (seen > range + margin) return true;
+    if (best == nullptr || seen - range > best_seen - best_range) best = c, best_seen = seen, best_range = range;
+  }
+  if (best == nullptr) return true;
+  if (best_seen >= best_range - margin) return false;
+  // The gap bounds how far the object moved; a larger one is more likely structure revealed
+  // by a mover that passed in front of it.
+  if (best_seen < best_range - static_cast<float>(params_.vanish_max_gap)) return false;
+  const Eigen::Vector3f q = best->origin + (p - best->origin) * (best_seen / best_range) - frame.sensor_origin;
+  const float now = frame.nearest_fine[static_cast<std::size_t>(grid_.bin(q))];
+  return std::isfinite(now) && now > q.norm() + margin;
+}
+
+void MotionTest::push(const Frame& frame, const std::vector<char>& tracked_point) {
+  const SegmentationParams& sp = params_;
+  ref_chunks_.clear();  // chunks may be dropped below
+  const int64_t utime = frame.utime;
+  const int64_t chunk_us = static_cast<int64_t>(sp.history_chunk * 1e6);
+  if (history_.empty() || history_.back().closed) {
+    history_.emplace_back();
+    history_.back().first_utime = utime;
+  }
+  HistoryChunk& c = history_.back();
+  if (c.max_range.empty()) {
+    c.origin = frame.sensor_origin;
+    c.max_range.assign(static_cast<std::size_t>(grid_.size()), 0.0f);
+  }
+  // Free-space evidence of the newest frame: every return, ground included (frame.points
+  // holds the last frames again, cropped).
+  for (const auto& p : frame.returns) {
+    const Eigen::Vector3f ray = p - c.origin;
+    float& m = c.max_range[static_cast<std::size_t>(grid_.bin(ray))];
+    m = std::max(m, ray.norm());
+  }
+  c.last_utime = utime;
+  // Reference points: what this frame did not give to a track. Someone walking where a tracked
+  // person was (a follower, or the person itself turning back) would otherwise be matched
+  // against that trail and look static. The free-space evidence above still includes it, so
+  // structure wrongly tracked for a moment is not taken for motion.
+  if (sp.history_static_only) {
+    for (std::size_t i = 0; i < frame.points.size(); ++i)
+      if (!tracked_point[i]) c.points.push_back(frame.points[i]);
+  } else {
+    c.points.insert(c.points.end(), frame.points.begin(), frame.points.end());
+  }
+  if (utime - c.first_utime >= chunk_us) {
+    c.index.build(c.points);
+    c.points.clear();
+    c.points.shrink_to_fit();
+    c.closed = true;
+  }
+  const int64_t keep_us = static_cast<int64_t>(sp.history_max_age * 1e6);
+  while (!history_.empty() && utime - history_.front().first_utime > keep_us) history_.pop_front();
+}
+
+}  // namespace perception
+}  // namespace ucon
