@@ -73,6 +73,7 @@ class Bridge {
 int main(int argc, char** argv) {
   namespace fg = ucon::foxglove;
   CLI::App app{"Serve live LCM traffic to Foxglove over the Foxglove WebSocket protocol (read-only)."};
+  app.option_defaults()->always_capture_default();
   std::string url;
   std::string planner_config = std::string(UCON_SOURCE_DIR) + "/deploy/config/planner.yaml";
   fg::BridgeServer::Options opt;

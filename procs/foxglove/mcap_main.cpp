@@ -31,6 +31,7 @@ struct FileCloser {
 int main(int argc, char** argv) {
   namespace fg = ucon::foxglove;
   CLI::App app{"Convert an LCM log of a run into an MCAP file for Foxglove."};
+  app.option_defaults()->always_capture_default();
   std::string log, out, compression = "zstd";
   std::string planner_config = std::string(UCON_SOURCE_DIR) + "/deploy/config/planner.yaml";
   fg::McapWriterOptions wopt;
@@ -116,6 +117,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ucon-mcap: warning: %lld events on %s do not decode (left out)\n",
                  static_cast<long long>(n), ch.c_str());
   const bool damaged = st != ucon::runtime::LogReadStatus::kEnd;
+  if (es.events == 0 && !damaged) std::fprintf(stderr, "ucon-mcap: warning: %s has no events\n", log.c_str());
   if (damaged) {
     std::fprintf(stderr,
                  "ucon-mcap: error: %s\nucon-mcap: %s holds the %lld events before it (%lld MCAP messages), "
@@ -131,7 +133,8 @@ int main(int argc, char** argv) {
                 s.channels, span, s.chunks, compression.c_str(), s.bytes / 1e6, s.uncompressed_bytes / 1e6,
                 seconds);
     if (es.untimed > 0)
-      std::printf("ucon-mcap: %lld messages without a message time took the time of the message before them\n",
+      std::printf("ucon-mcap: %lld messages without a usable message time (utime invalid, or wall clock while "
+                  "the run is on sensor or simulation time) took the run's time where they were logged\n",
                   static_cast<long long>(es.untimed));
   }
   return damaged ? 2 : 0;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "mcap_test_reader.hpp"
+#include "ucon/foxglove/lcm_json.hpp"
 #include "ucon/foxglove/mcap_export.hpp"
 #include "ucon/log_metadata_t.hpp"
 #include "ucon/process_status_t.hpp"
@@ -72,10 +73,17 @@ TEST(McapExport, GivenWallClockAndTimedMessagesWhenExportedThenLogTimeIsMessageT
   procs.utime = 1'700'000'000'500'000;  // wall clock
   ucon::process_status_t st{};
   st.utime = 0;  // no input yet: invalid
+  ucon::process_status_t logger{};
+  logger.utime = 1'700'000'000'900'000;  // a process stamping its status with the wall clock
+  ucon::process_status_t planner{};
+  planner.utime = 2'005'000;  // message time: kept
   const auto f = mcap_test::parse(run({{"LOG_METADATA", encode(meta)},
+                                       {"LOGGER_STATUS", encode(logger)},
                                        {"ROBOT_POSE", encode(pose(2'000'000))},
                                        {"PROC_STATUS", encode(procs)},
                                        {"PLANNER_STATUS", encode(st)},
+                                       {"PERCEPTION_STATUS", encode(planner)},
+                                       {"LOGGER_STATUS", encode(logger)},
                                        {"ROBOT_POSE", encode(pose(2'010'000))}})
                                       .bytes);
   ASSERT_TRUE(f.errors.empty()) << f.errors.front();
@@ -85,6 +93,9 @@ TEST(McapExport, GivenWallClockAndTimedMessagesWhenExportedThenLogTimeIsMessageT
   EXPECT_EQ(times["ROBOT_POSE"], (std::vector<uint64_t>{2'000'000'000, 2'010'000'000}));
   EXPECT_EQ(times["PROC_STATUS"], std::vector<uint64_t>{2'000'000'000});
   EXPECT_EQ(times["PLANNER_STATUS"], std::vector<uint64_t>{2'000'000'000});
+  EXPECT_EQ(times["PERCEPTION_STATUS"], std::vector<uint64_t>{2'005'000'000});
+  // Wall clock among simulation time: where it was logged (before the first pose: its time).
+  EXPECT_EQ(times["LOGGER_STATUS"], (std::vector<uint64_t>{2'000'000'000, 2'005'000'000}));
   EXPECT_EQ(times["/tf"].size(), 2u);
   EXPECT_EQ(times["/robot_pose"].size(), 2u);
   // The raw JSON keeps the wall-clock utime.
@@ -95,6 +106,29 @@ TEST(McapExport, GivenWallClockAndTimedMessagesWhenExportedThenLogTimeIsMessageT
   }
   // LOG_METADATA came first in the log and is first in the file.
   EXPECT_EQ(f.channels.at(f.messages.front().channel).topic, "LOG_METADATA");
+}
+
+TEST(MessageClock, GivenTheTimeBaseAndOthersWhenTimedThenOnlyTheTimeBaseMovesTheClockFar) {
+  const auto* pose_type = fg::findLcmTypeByName("ucon.robot_pose_t");
+  const auto* status_type = fg::findLcmTypeByName("ucon.process_status_t");
+  auto status = [](int64_t utime) {
+    ucon::process_status_t s{};
+    s.utime = utime;
+    return encode(s);
+  };
+  fg::MessageClock clock;
+  auto s1 = status(5'000'000);
+  EXPECT_FALSE(clock.timeOf(*status_type, s1.data(), s1.size()).has_value());  // no clock yet
+  auto p1 = encode(pose(1'000'000));
+  EXPECT_EQ(clock.timeOf(*pose_type, p1.data(), p1.size()), 1'000'000);
+  EXPECT_EQ(clock.timeOf(*status_type, s1.data(), s1.size()), 5'000'000);  // within the window: kept
+  auto far = status(1'000'000 + fg::MessageClock::kWindowUs + 10'000'000);
+  EXPECT_EQ(clock.timeOf(*status_type, far.data(), far.size()), 5'000'000);  // out of it: the clock
+  auto back = encode(pose(500'000));  // the time base may jump (a new run in the same log)
+  EXPECT_EQ(clock.timeOf(*pose_type, back.data(), back.size()), 500'000);
+  EXPECT_EQ(clock.now(), 500'000);
+  EXPECT_TRUE(fg::MessageClock::isTimeBase(*fg::findLcmTypeByName("ucon.point_cloud_t")));
+  EXPECT_FALSE(fg::MessageClock::isTimeBase(*status_type));
 }
 
 TEST(McapExport, GivenChannelsWhenExportedThenRawTopicsCarryTheirTypeSchemaAndViewsFoxglovesOwn) {
@@ -130,13 +164,19 @@ TEST(McapExport, GivenUnknownAndUndecodableEventsWhenExportedThenCountedAndLeftO
   EXPECT_EQ(f.stat_messages, 3u);  // ROBOT_POSE, /tf, /robot_pose of the good event
 }
 
-TEST(McapExport, GivenOnlyUntimedMessagesWhenExportedThenTheyAreWrittenAtTimeZero) {
+TEST(McapExport, GivenNoTimeBaseWhenExportedThenMessagesKeepTheirOwnTimeOrZero) {
   ucon::log_metadata_t meta{};
   meta.utime = 1'700'000'000'000'000;
-  const auto f = mcap_test::parse(run({{"LOG_METADATA", encode(meta)}}).bytes);
+  ucon::process_status_t st{};
+  st.utime = 3'000'000;
+  const auto e = run({{"LOG_METADATA", encode(meta)}, {"LCM_SELF_TEST", std::vector<uint8_t>(8, 1)},
+                      {"PLANNER_STATUS", encode(st)}});
+  EXPECT_TRUE(e.stats.unknown_type.empty());  // LCM's self test is left out silently
+  const auto f = mcap_test::parse(e.bytes);
   ASSERT_TRUE(f.errors.empty()) << f.errors.front();
-  ASSERT_EQ(f.messages.size(), 1u);
+  ASSERT_EQ(f.messages.size(), 3u);  // LOG_METADATA, PLANNER_STATUS and its view
   EXPECT_EQ(f.messages[0].log_time, 0u);
+  EXPECT_EQ(f.messages[1].log_time, 3'000'000'000u);
 }
 
 TEST(McapExport, GivenOptionsWhenExportingThenRawOrViewsCanBeLeftOut) {

@@ -49,6 +49,7 @@ std::vector<WsChannel> BridgeCore::takeNewChannels() {
 void BridgeCore::onLcm(const std::string& channel, const void* data, std::size_t size,
                        const std::function<bool(uint32_t)>& wanted, std::vector<BridgeOutput>* out) {
   ++stats_.lcm_messages;
+  if (channel == "LCM_SELF_TEST") return;  // LCM's own start-up check, not a ucon message
   const LcmTypeInfo* type = findLcmType(data, size);
   if (!type) {
     ++stats_.unknown_type;
@@ -57,8 +58,9 @@ void BridgeCore::onLcm(const std::string& channel, const void* data, std::size_t
   registerChannel(channel, *type);
   const auto own = MessageClock::ownTime(*type, data, size);
   const auto t = clock_.timeOf(*type, data, size);
-  if (!own) ++stats_.untimed;
-  const int64_t utime = t ? *t : 0;
+  // Before the first time-base message a message keeps its own utime (0 without one).
+  const int64_t utime = t ? *t : own.value_or(0);
+  if (!own || *own != utime) ++stats_.untimed;
   const uint64_t ns = static_cast<uint64_t>(utime) * 1000u;
   const auto& ids = lcm_channels_.at(channel);
 

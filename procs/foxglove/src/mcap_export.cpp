@@ -8,6 +8,7 @@ namespace ucon {
 namespace foxglove {
 
 namespace {
+constexpr const char* kLcmSelfTest = "LCM_SELF_TEST";
 uint64_t toNs(int64_t utime) { return utime > 0 ? static_cast<uint64_t>(utime) * 1000u : 0u; }
 }  // namespace
 
@@ -67,40 +68,47 @@ bool McapExporter::process(const std::string& channel, const LcmTypeInfo& type, 
 
 bool McapExporter::add(const std::string& channel, const void* data, std::size_t size) {
   ++stats_.events;
+  if (channel == kLcmSelfTest) return writer_->ok();  // LCM's own start-up check, not a ucon message
   const LcmTypeInfo* type = findLcmType(data, size);
   if (!type) {
     ++stats_.unknown_type[channel];
     return writer_->ok();
   }
+  const auto own = MessageClock::ownTime(*type, data, size);
   const auto t = clock_.timeOf(*type, data, size);
   if (!t) {
-    ++stats_.untimed;
+    // No clock yet: wait for the first time-base message (at most max_pending messages).
     if (pending_.size() < options_.max_pending) {
       const auto* b = static_cast<const uint8_t*>(data);
       pending_.push_back(Pending{channel, std::vector<uint8_t>(b, b + size)});
       return writer_->ok();
     }
-    return process(channel, *type, data, size, 0);
+    if (!own) ++stats_.untimed;
+    return process(channel, *type, data, size, own.value_or(0));
   }
-  if (!MessageClock::ownTime(*type, data, size)) ++stats_.untimed;
   if (!pending_.empty()) {
-    // The first timed message: what waited for it takes its time, in log order, before it.
+    // The clock starts: what waited for it takes its time, in log order, before this one.
     std::vector<Pending> waiting;
     waiting.swap(pending_);
     for (const auto& p : waiting) {
+      ++stats_.untimed;
       if (!process(p.channel, *findLcmType(p.data.data(), p.data.size()), p.data.data(), p.data.size(), *t))
         return false;
     }
   }
+  if (!own || *own != *t) ++stats_.untimed;
   return process(channel, *type, data, size, *t);
 }
 
 bool McapExporter::finish() {
+  // A log without any time-base message: what waited keeps its own time (0 without one).
   std::vector<Pending> waiting;
   waiting.swap(pending_);
   for (const auto& p : waiting) {
-    if (!process(p.channel, *findLcmType(p.data.data(), p.data.size()), p.data.data(), p.data.size(), 0))
-      return false;
+    const LcmTypeInfo& type = *findLcmType(p.data.data(), p.data.size());
+    const auto own = MessageClock::ownTime(type, p.data.data(), p.data.size());
+    if (!own) ++stats_.untimed;
+    if (!process(p.channel, type, p.data.data(), p.data.size(), own.value_or(0))) return false;
   }
   if (options_.foxglove) {
     converted_.clear();

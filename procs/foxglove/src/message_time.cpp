@@ -1,5 +1,7 @@
 #include "ucon/foxglove/message_time.hpp"
 
+#include <cstring>
+
 #include "ucon/foxglove/lcm_json.hpp"
 
 namespace ucon {
@@ -12,14 +14,27 @@ std::optional<int64_t> MessageClock::ownTime(const LcmTypeInfo& type, const void
   return t;
 }
 
-std::optional<int64_t> MessageClock::timeOf(const LcmTypeInfo& type, const void* data, std::size_t size) {
-  if (const auto t = ownTime(type, data, size)) {
-    now_ = *t;
-    started_ = true;
-    return t;
+bool MessageClock::isTimeBase(const LcmTypeInfo& type) {
+  for (const char* name : {"ucon.point_cloud_t", "ucon.imu_t", "ucon.robot_pose_t", "ucon.sim_ground_truth_t"}) {
+    if (std::strcmp(type.name, name) == 0) return true;
   }
-  if (started_) return now_;
-  return std::nullopt;
+  return false;
+}
+
+std::optional<int64_t> MessageClock::timeOf(const LcmTypeInfo& type, const void* data, std::size_t size) {
+  const auto own = ownTime(type, data, size);
+  if (own && isTimeBase(type)) {
+    // The time base sets the clock, even when it jumps (a new run in the same log).
+    now_ = *own;
+    started_ = true;
+    return own;
+  }
+  if (!started_) return std::nullopt;
+  if (own && *own >= now_ - kWindowUs && *own <= now_ + kWindowUs) {
+    now_ = *own;
+    return own;
+  }
+  return now_;
 }
 
 }  // namespace foxglove

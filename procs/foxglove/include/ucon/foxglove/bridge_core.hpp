@@ -32,7 +32,7 @@ struct BridgeStats {
   int64_t converted = 0;      ///< outputs produced
   int64_t unknown_type = 0;   ///< messages of no ucon type
   int64_t undecodable = 0;    ///< ucon messages whose bytes did not decode
-  int64_t untimed = 0;        ///< messages that took the clock's time
+  int64_t untimed = 0;        ///< messages sent at another time than their own utime
 };
 
 class BridgeCore {

@@ -2,10 +2,10 @@
 /// @file mcap_export.hpp
 /// LCM log events -> MCAP: every ucon channel as JSON with its generated jsonschema (topic =
 /// the LCM channel name), plus the Foxglove views of convert.hpp. Log time and publish time
-/// of each message = its message time (message_time.hpp); untimed messages at the start of a
-/// log wait for the first timed one and take its time. Events whose type is not a ucon type,
-/// or whose bytes do not decode, are counted per channel and left out. No file I/O: events
-/// in, McapWriter calls out.
+/// of each message = its message time (message_time.hpp); messages before the first
+/// time-base message wait for it and take its time. Events whose type is not a ucon type, or
+/// whose bytes do not decode, are counted per channel and left out (LCM's own LCM_SELF_TEST
+/// silently). No file I/O: events in, McapWriter calls out.
 
 #include <cstddef>
 #include <cstdint>
@@ -23,15 +23,15 @@ namespace foxglove {
 struct ExportOptions {
   bool raw_json = true;   ///< the ucon messages themselves, as JSON
   bool foxglove = true;   ///< the Foxglove views (point clouds, transforms, scene updates, map)
-  /// Untimed messages held while waiting for the first timed one; beyond it they are written
-  /// at log time 0 [-].
+  /// Messages held while waiting for the first time-base message; beyond it they are written
+  /// at their own utime (0 without one) [-].
   std::size_t max_pending = 10000;
 };
 
 struct ExportStats {
   int64_t events = 0;            ///< log events seen
   int64_t messages = 0;          ///< MCAP messages written (raw + Foxglove)
-  int64_t untimed = 0;           ///< events that took the clock's time
+  int64_t untimed = 0;           ///< messages written at another time than their own utime
   std::map<std::string, int64_t> unknown_type;   ///< channel -> events of no ucon type
   std::map<std::string, int64_t> undecodable;    ///< channel -> events that did not decode
 };
