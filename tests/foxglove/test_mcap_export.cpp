@@ -77,8 +77,11 @@ TEST(McapExport, GivenWallClockAndTimedMessagesWhenExportedThenLogTimeIsMessageT
   logger.utime = 1'700'000'000'900'000;  // a process stamping its status with the wall clock
   ucon::process_status_t planner{};
   planner.utime = 2'005'000;  // message time: kept
+  ucon::process_status_t early{};
+  early.utime = 1'990'000;  // logged before the first pose, with a good time of its own
   const auto f = mcap_test::parse(run({{"LOG_METADATA", encode(meta)},
                                        {"LOGGER_STATUS", encode(logger)},
+                                       {"LIDAR_STATUS", encode(early)},
                                        {"ROBOT_POSE", encode(pose(2'000'000))},
                                        {"PROC_STATUS", encode(procs)},
                                        {"PLANNER_STATUS", encode(st)},
@@ -94,6 +97,7 @@ TEST(McapExport, GivenWallClockAndTimedMessagesWhenExportedThenLogTimeIsMessageT
   EXPECT_EQ(times["PROC_STATUS"], std::vector<uint64_t>{2'000'000'000});
   EXPECT_EQ(times["PLANNER_STATUS"], std::vector<uint64_t>{2'000'000'000});
   EXPECT_EQ(times["PERCEPTION_STATUS"], std::vector<uint64_t>{2'005'000'000});
+  EXPECT_EQ(times["LIDAR_STATUS"], std::vector<uint64_t>{1'990'000'000});  // waited, kept its own
   // Wall clock among simulation time: where it was logged (before the first pose: its time).
   EXPECT_EQ(times["LOGGER_STATUS"], (std::vector<uint64_t>{2'000'000'000, 2'005'000'000}));
   EXPECT_EQ(times["/tf"].size(), 2u);

@@ -91,9 +91,11 @@ bool McapExporter::add(const std::string& channel, const void* data, std::size_t
     std::vector<Pending> waiting;
     waiting.swap(pending_);
     for (const auto& p : waiting) {
-      ++stats_.untimed;
-      if (!process(p.channel, *findLcmType(p.data.data(), p.data.size()), p.data.data(), p.data.size(), *t))
-        return false;
+      const LcmTypeInfo& pt = *findLcmType(p.data.data(), p.data.size());
+      const auto pown = MessageClock::ownTime(pt, p.data.data(), p.data.size());
+      const int64_t pt_time = MessageClock::resolve(pown, *t);
+      if (!pown || *pown != pt_time) ++stats_.untimed;
+      if (!process(p.channel, pt, p.data.data(), p.data.size(), pt_time)) return false;
     }
   }
   if (!own || *own != *t) ++stats_.untimed;

@@ -30,10 +30,7 @@ std::optional<int64_t> MessageClock::timeOf(const LcmTypeInfo& type, const void*
     return own;
   }
   if (!started_) return std::nullopt;
-  if (own && *own >= now_ - kWindowUs && *own <= now_ + kWindowUs) {
-    now_ = *own;
-    return own;
-  }
+  now_ = resolve(own, now_);
   return now_;
 }
 

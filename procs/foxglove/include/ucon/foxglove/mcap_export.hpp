@@ -3,7 +3,7 @@
 /// LCM log events -> MCAP: every ucon channel as JSON with its generated jsonschema (topic =
 /// the LCM channel name), plus the Foxglove views of convert.hpp. Log time and publish time
 /// of each message = its message time (message_time.hpp); messages before the first
-/// time-base message wait for it and take its time. Events whose type is not a ucon type, or
+/// time-base message wait for it and are resolved against its time. Events whose type is not a ucon type, or
 /// whose bytes do not decode, are counted per channel and left out (LCM's own LCM_SELF_TEST
 /// silently). No file I/O: events in, McapWriter calls out.
 

@@ -10,7 +10,8 @@
 /// the types whose utime is the wall clock by definition (LOG_METADATA, PROC_STATUS), and
 /// processes that stamp their status with the wall clock while the stack runs on simulation
 /// or sensor time (the logger): they land where they happened in the run instead of decades
-/// away. Before the first time-base message there is no clock (the caller decides).
+/// away. Before the first time-base message there is no clock: the caller holds such
+/// messages and resolves them against the first time-base time, or uses their own time.
 
 #include <cstddef>
 #include <cstdint>
@@ -37,6 +38,12 @@ class MessageClock {
   /// Time [us] for this message under the policy above (advancing the clock); nullopt while
   /// there is no clock and the message is not of the time base.
   std::optional<int64_t> timeOf(const LcmTypeInfo& type, const void* data, std::size_t size);
+
+  /// The time [us] a message whose own time is `own` gets at clock `clock`: its own time
+  /// within kWindowUs of the clock, the clock otherwise.
+  static int64_t resolve(std::optional<int64_t> own, int64_t clock) {
+    return own && *own >= clock - kWindowUs && *own <= clock + kWindowUs ? *own : clock;
+  }
 
   /// The clock [us]: the latest time-base time, or a later message's own time within the
   /// window; 0 before the first time-base message.
