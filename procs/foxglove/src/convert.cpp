@@ -174,14 +174,8 @@ void writeLabel(JsonWriter& w, double x, double y, double z, const std::string& 
   w.endObject();
 }
 
-// A polyline in the x-y plane at height z.
-void writeLine(JsonWriter& w, LineType type, const std::vector<Eigen::Vector2d>& pts, double z, double thickness,
-               const Rgba& c) {
-  w.beginObject();
-  w.field("type", static_cast<int>(type));
-  writePose(w, "pose", 0.0, 0.0, 0.0, 0.0);
-  w.field("thickness", thickness);
-  w.field("scale_invariant", false);
+// "points": x-y points at height z, as foxglove.Point3.
+void writePoints(JsonWriter& w, const std::vector<Eigen::Vector2d>& pts, double z) {
   w.key("points");
   w.beginArray();
   for (const auto& p : pts) {
@@ -192,6 +186,17 @@ void writeLine(JsonWriter& w, LineType type, const std::vector<Eigen::Vector2d>&
     w.endObject();
   }
   w.endArray();
+}
+
+// A polyline in the x-y plane at height z.
+void writeLine(JsonWriter& w, LineType type, const std::vector<Eigen::Vector2d>& pts, double z, double thickness,
+               const Rgba& c) {
+  w.beginObject();
+  w.field("type", static_cast<int>(type));
+  writePose(w, "pose", 0.0, 0.0, 0.0, 0.0);
+  w.field("thickness", thickness);
+  w.field("scale_invariant", false);
+  writePoints(w, pts, z);
   writeColour(w, "color", c);
   w.key("colors");
   w.beginArray();
@@ -207,24 +212,16 @@ void writeLine(JsonWriter& w, LineType type, const std::vector<Eigen::Vector2d>&
 void writeSectorFan(JsonWriter& w, const trajopt::SectorShape& s, double heading, double z, const Rgba& c) {
   const double span = 2.0 * s.half_angle;
   const int n = std::max(2, static_cast<int>(std::ceil(span / (kPi / 24.0))));
-  w.beginObject();
-  writePose(w, "pose", 0.0, 0.0, 0.0, 0.0);
-  w.key("points");
-  w.beginArray();
-  w.beginObject();
-  w.field("x", s.centre.x());
-  w.field("y", s.centre.y());
-  w.field("z", z);
-  w.endObject();
+  std::vector<Eigen::Vector2d> pts;
+  pts.reserve(static_cast<std::size_t>(n) + 2);
+  pts.push_back(s.centre);
   for (int i = 0; i <= n; ++i) {
     const double a = heading - s.half_angle + span * i / n;
-    w.beginObject();
-    w.field("x", s.centre.x() + s.radius * std::cos(a));
-    w.field("y", s.centre.y() + s.radius * std::sin(a));
-    w.field("z", z);
-    w.endObject();
+    pts.push_back(s.centre + s.radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
   }
-  w.endArray();
+  w.beginObject();
+  writePose(w, "pose", 0.0, 0.0, 0.0, 0.0);
+  writePoints(w, pts, z);
   writeColour(w, "color", c);
   w.key("colors");
   w.beginArray();
