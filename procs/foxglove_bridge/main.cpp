@@ -16,6 +16,7 @@
 #include "ucon/foxglove/bridge_core.hpp"
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/runtime/node_runtime.hpp"
+#include "ucon/status_report.hpp"
 
 #ifndef UCON_SOURCE_DIR
 #define UCON_SOURCE_DIR "."
@@ -125,29 +126,37 @@ int main(int argc, char** argv) {
   lcm::Subscription* sub = rt->lcm().subscribe(".*", &Bridge::onRaw, &bridge);
   if (sub) sub->setQueueCapacity(ucon::runtime::NodeRuntime::kDefaultQueueCapacity);
 
-  rt->setStatusChannel(kStatusChannel, 1.0, [&] { return static_cast<int64_t>(core.nowNs() / 1000); });
+  // FOXGLOVE_BRIDGE_STATUS: the bridge's report, brought up to date when the runtime publishes
+  // it (once a second), stamped with the bus's message time.
+  ucon::StatusReport report(kName);
+  rt->setStatus(
+      kStatusChannel, 1.0,
+      [&]() -> ucon::StatusReport& {
+        const auto s = server->stats();
+        const auto& c = core.stats();
+        report.set("clients", s.clients);
+        report.setCounter("connections", static_cast<int64_t>(s.connections));
+        report.setCounter("rejected_connections", static_cast<int64_t>(s.rejected));
+        report.setCounter("frames_sent", static_cast<int64_t>(s.frames_sent));
+        report.setCounter("bytes_sent", static_cast<int64_t>(s.bytes_sent));
+        report.setCounter("dropped", static_cast<int64_t>(s.dropped));
+        report.setCounter("refused_requests", static_cast<int64_t>(s.refused_requests));
+        report.setCounter("lcm_messages", c.lcm_messages);
+        report.setCounter("unknown_type", c.unknown_type);
+        report.setCounter("undecodable", c.undecodable);
+        return report;
+      },
+      [&] { return static_cast<int64_t>(core.nowNs() / 1000); });
   ucon::runtime::logLine(kName, "info",
                          "serving ws://" + opt.bind + ":" + std::to_string(server->port()) + " (subprotocol " +
                              fg::kSubprotocol + ", read-only), LCM " + rt->url());
   int clients = 0;
   const int rc = rt->spin(20, [&] {
     bridge.tick();
-    const auto s = server->stats();
-    const auto& c = core.stats();
-    auto& st = rt->status();
-    st.set("clients", s.clients);
-    st.setCounter("connections", static_cast<int64_t>(s.connections));
-    st.setCounter("rejected_connections", static_cast<int64_t>(s.rejected));
-    st.setCounter("frames_sent", static_cast<int64_t>(s.frames_sent));
-    st.setCounter("bytes_sent", static_cast<int64_t>(s.bytes_sent));
-    st.setCounter("dropped", static_cast<int64_t>(s.dropped));
-    st.setCounter("refused_requests", static_cast<int64_t>(s.refused_requests));
-    st.setCounter("lcm_messages", c.lcm_messages);
-    st.setCounter("unknown_type", c.unknown_type);
-    st.setCounter("undecodable", c.undecodable);
-    if (s.clients != clients) {
-      ucon::runtime::logLine(kName, "info", std::to_string(s.clients) + " client(s) connected");
-      clients = s.clients;
+    const int now_clients = server->stats().clients;
+    if (now_clients != clients) {
+      ucon::runtime::logLine(kName, "info", std::to_string(now_clients) + " client(s) connected");
+      clients = now_clients;
     }
   });
   server->stop();
