@@ -139,14 +139,15 @@ TEST(SimulatorDriverIntegration, GivenTenSecondsAtFullRateThenPacketsFramesAndPo
                                  {"command_port: 56100", "command_port: 57031"},
                                  {"point_src_port: 56300", "point_src_port: 57032"},
                                  {"imu_src_port: 56400", "imu_src_port: 57033"}});
-  drv_cfg = replaceAll(drv_cfg, {{"sensor_discovery_port: 56000", "sensor_discovery_port: 57030"},
+  drv_cfg = replaceAll(drv_cfg, {{"discovery_port: 56000", "discovery_port: 57030"},
+                                 {"host_push_port: 56201", "host_push_port: 57037"},
                                  {"sensor_command_port: 56100", "sensor_command_port: 57031"},
                                  {"sensor_point_port: 56300", "sensor_point_port: 57032"},
                                  {"sensor_imu_port: 56400", "sensor_imu_port: 57033"},
                                  {"host_command_port: 56101", "host_command_port: 57034"},
                                  {"host_point_port: 56301", "host_point_port: 57035"},
                                  {"host_imu_port: 56401", "host_imu_port: 57036"},
-                                 {"retry_interval_s: 0.5", "retry_interval_s: 0.1"}});
+                                 {"retry_interval_s: 1.0", "retry_interval_s: 0.1"}});
   const std::string dir = ::testing::TempDir();
   std::ofstream(dir + "it_sim.yaml") << sim_cfg;
   std::ofstream(dir + "it_drv.yaml") << drv_cfg;
