@@ -170,8 +170,13 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   const Eigen::Isometry3d T = cloud.frame_id == "world" ? Eigen::Isometry3d::Identity() : *pose;
   last_robot_xy_ = pose->translation().head<2>();
   {
+    // Where the points were measured from: the cloud's first sensor as the driver gives it, or
+    // (clouds without origins, e.g. older logs) the configured origin in the base frame.
     const auto& so = params_.preprocess.sensor_origin;
-    sensor_origin_ = (*pose * Eigen::Vector3d(so[0], so[1], so[2])).cast<float>();
+    sensor_origin_d_ = cloud.num_sensors > 0
+                           ? T * Eigen::Vector3d(cloud.origin_x[0], cloud.origin_y[0], cloud.origin_z[0])
+                           : *pose * Eigen::Vector3d(so[0], so[1], so[2]);
+    sensor_origin_ = sensor_origin_d_.cast<float>();
   }
 
   // 1. Pre-processing.
@@ -378,6 +383,9 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
   frame_returns_.clear();
   int64_t non_finite = 0;
   const bool in_world = cloud.frame_id == "world";  // once, not a string compare per point
+  // Several sensors: only the first one's returns are free-space evidence, since the free-space
+  // test casts rays from that sensor's origin (another sensor's ray starts elsewhere).
+  const bool several = cloud.num_sensors > 1 && cloud.num_point_sensors == cloud.num_points;
   for (int i = 0; i < cloud.num_points; ++i) {
     const Eigen::Vector3f b(cloud.x[i], cloud.y[i], cloud.z[i]);
     if (!b.allFinite()) {
@@ -389,7 +397,7 @@ void PerceptionNode::preprocess(const point_cloud_t& cloud, const Eigen::Isometr
     if (r2 < min_r2) continue;
     // Ground and far returns are not objects, but the space their rays crossed was free: the
     // motion test needs that (a mover's lower half is seen against the ground).
-    frame_returns_.push_back(w);
+    if (!several || cloud.point_sensor[static_cast<std::size_t>(i)] == 0) frame_returns_.push_back(w);
     if (r2 > max_r2) continue;
     if (w.z() < p.min_height || w.z() > p.max_height) continue;
     kept.push_back(w);
@@ -950,8 +958,7 @@ static_points_t PerceptionNode::buildStatic(int64_t utime, const Eigen::Isometry
   s.utime = utime;
   s.seq = static_seq_;
   s.valid = true;
-  const auto& so = params_.preprocess.sensor_origin;
-  const Eigen::Vector3d origin = T * Eigen::Vector3d(so[0], so[1], so[2]);
+  const Eigen::Vector3d& origin = sensor_origin_d_;  // this frame's, world frame
   s.origin_x = origin.x();
   s.origin_y = origin.y();
   s.origin_z = origin.z();

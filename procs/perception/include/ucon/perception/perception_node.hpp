@@ -196,6 +196,7 @@ class PerceptionNode {
 
   Eigen::Vector2d last_robot_xy_ = Eigen::Vector2d::Zero();  ///< robot position of the frame [m]
   Eigen::Vector3f sensor_origin_ = Eigen::Vector3f::Zero();   ///< sensor origin of the frame, world [m]
+  Eigen::Vector3d sensor_origin_d_ = Eigen::Vector3d::Zero();  ///< the same in double (static output)
   int az_bins_ = 360, el_bins_ = 180;
   int free_az_ = 120, free_el_ = 60;
   std::vector<float> frame_min_range_;  ///< nearest return per coarse bin of this frame [m]; inf = none
