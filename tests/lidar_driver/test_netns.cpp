@@ -11,7 +11,6 @@
 #include <fcntl.h>
 #include <sched.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,13 +23,13 @@
 #include <thread>
 #include <vector>
 
+#include "../support/test_support.hpp"
 #include "ucon/lidar_driver/captured_udp.hpp"
 #include "ucon/lidar_driver/pcap_reader.hpp"
 #include "ucon/livox/control.hpp"
 #include "ucon/point_cloud_t.hpp"
 #include "ucon/process_status_t.hpp"
-
-extern char** environ;
+#include "ucon/runtime/config_file.hpp"
 
 namespace ld = ucon::lidar_driver;
 namespace livox = ucon::livox;
@@ -38,43 +37,22 @@ namespace livox = ucon::livox;
 namespace {
 
 std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
+  return ucon::runtime::readTextFile(path, nullptr).value_or("");
 }
 
 int sh(const std::string& cmd) { return std::system((cmd + " >/dev/null 2>&1").c_str()); }
 
+// Programs found on PATH (ip, bash) as well as built ones.
 pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  std::vector<std::string> a = args;
-  std::vector<char*> argv;
-  for (auto& s : a) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, a[0].c_str(), &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  return rc == 0 ? pid : -1;
+  std::vector<std::string> a = {"/usr/bin/env"};
+  a.insert(a.end(), args.begin(), args.end());
+  return ucon::test::spawn(a, log);
 }
 
 int stop(pid_t pid, int sig, double limit_s) {
   if (pid <= 0) return -1;
   kill(pid, sig);
-  const auto t0 = std::chrono::steady_clock::now();
-  int st = 0;
-  while (waitpid(pid, &st, WNOHANG) != pid) {
-    if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(limit_s)) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &st, 0);
-      return -1;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return ucon::test::waitExit(pid, limit_s);
 }
 
 // Replaces the text after `key:` on the first line that has it (keeps the comment).

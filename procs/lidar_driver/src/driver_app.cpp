@@ -253,7 +253,8 @@ class LiveDriver {
         done_at_s_[i] = now;
         logLine(kName, "info",
                 "sensor " + std::to_string(i) + ": Mid-360 " + (st.serial.empty() ? "" : st.serial + " ") +
-                    "at " + livox::formatIpv4(st.ip) + " configured (" +
+                    "at " + livox::formatIpv4(st.ip) + " configured after " +
+                    std::to_string(cfg.requestsSent()) + " request(s) (" +
                     (p_.control.work_mode == "sampling" ? "sampling" : "idle") + ", point data type " +
                     std::to_string(p_.control.point_data_type) + ", IMU " +
                     (p_.sensors[i].imu ? "on" : "off") + "); points to " + p_.network.host_ip + ":" +
