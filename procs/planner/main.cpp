@@ -1,17 +1,19 @@
-// ucon-planner: OctoMap ESDF + guide path + sector-MINCO replanning (PlannerNode) on LCM.
-// Subscribes ROBOT_POSE, PERCEPTION_OBJECTS, PERCEPTION_STATIC, NAV_GOAL; publishes
-// PLANNER_TRAJECTORY and PLANNER_STATUS.
+// ucon-planner: OctoMap ESDF + guide path + sector-MINCO replanning on LCM. Thin main: flags,
+// config, LCM; the wiring (ROBOT_POSE, PERCEPTION_OBJECTS, PERCEPTION_STATIC, NAV_GOAL in;
+// PLANNER_TRAJECTORY, PLANNER_STATUS out) is the node's binding.
 #include <CLI/CLI.hpp>
 
 #include <string>
 
-#include "ucon/channels.hpp"
-#include "ucon/planner/planner_node.hpp"
+#include "ucon/planner/binding.hpp"
 #include "ucon/planner/planner_params.hpp"
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/runtime/node_runtime.hpp"
 
+namespace rt = ucon::runtime;
+
 int main(int argc, char** argv) {
+  const auto binding = ucon::planner::binding();
   CLI::App app{"UCON planner: receding-horizon sector-MINCO trajectories (PLANNER_TRAJECTORY)."};
   std::string config_path = "deploy/config/planner.yaml";
   std::string url;
@@ -19,47 +21,17 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0)");
   CLI11_PARSE(app, argc, argv);
 
-  const char* name = "planner";
-  auto params = ucon::runtime::loadConfigFile<ucon::planner::PlannerParams>(name, config_path);
+  auto params = rt::loadConfigFile<ucon::planner::PlannerParams>(binding.name, config_path);
   if (!params) return 2;
   std::string err;
-  auto rt = ucon::runtime::NodeRuntime::open(name, url, &err);
-  if (!rt) {
-    ucon::runtime::logLine(name, "error", err);
+  auto io = rt::NodeRuntime::open(binding.name, url, &err);
+  if (!io) {
+    rt::logLine(binding.name, "error", err);
     return 1;
   }
-  ucon::runtime::installSignalHandlers();
-
-  ucon::planner::PlannerNode node(*params, rt->status());
-  rt->subscribe<ucon::robot_pose_t>(ucon::channels::kRobotPose,
-                                    [&](const ucon::robot_pose_t& m, const std::string&) { node.onPose(m); });
-  rt->subscribe<ucon::tracked_objects_t>(
-      ucon::channels::kPerceptionObjects,
-      [&](const ucon::tracked_objects_t& m, const std::string&) { node.onObjects(m); });
-  rt->subscribe<ucon::static_points_t>(
-      ucon::channels::kPerceptionStatic,
-      [&](const ucon::static_points_t& m, const std::string&) { node.onStatic(m); });
-  rt->subscribe<ucon::nav_goal_t>(ucon::channels::kNavGoal, [&](const ucon::nav_goal_t& m, const std::string&) {
-    ucon::runtime::logLine(name, "info", "goal " + std::to_string(m.goal_id) + " (" + std::to_string(m.x) +
-                                             ", " + std::to_string(m.y) + ")");
-    node.onGoal(m);
-  });
-  rt->setStatusChannel(ucon::channels::kPlannerStatus, 1.0, [&] { return node.clock().now(); });
-  ucon::runtime::logLine(name, "info", "listening on " + rt->url() + ", obstacle model " +
-                                           ucon::trajopt::toString(params->optimizer.obstacle_model));
-
-  std::string last_message;
-  const int rc = rt->spin(10, [&] {
-    // "Now" is the latest input's utime: the node never reads the wall clock.
-    const auto out = node.tick(node.clock().now());
-    if (out.trajectory) rt->publish(ucon::channels::kPlannerTrajectory, *out.trajectory);
-    if (out.plan && out.plan->message != last_message) {
-      if (!out.plan->message.empty()) {
-        ucon::runtime::logLine(name, out.plan->result == ucon::planner::PlanResult::kOk ? "info" : "warn",
-                               out.plan->message);
-      }
-      last_message = out.plan->message;
-    }
-  });
-  return rc;
+  rt::installSignalHandlers();
+  ucon::planner::BoundPlanner planner(*params);
+  rt::logLine(binding.name, "info", "listening on " + io->url() + ", obstacle model " +
+                                        ucon::trajopt::toString(params->optimizer.obstacle_model));
+  return io->run(binding, planner);
 }

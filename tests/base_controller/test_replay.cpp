@@ -1,5 +1,5 @@
-// Lock-step replay of a recorded LCM log: same outputs as the closed loop that recorded it,
-// and the same outputs on every replay.
+// Lock-step replay of a recorded LCM log through the controller's binding: same outputs as
+// the closed loop that recorded it, and the same outputs on every replay.
 #include <gtest/gtest.h>
 
 #include <lcm/lcm-cpp.hpp>
@@ -10,13 +10,14 @@
 #include <vector>
 
 #include "figure_eight.hpp"
-#include "ucon/base_controller/replay.hpp"
+#include "ucon/base_controller/binding.hpp"
 #include "ucon/channels.hpp"
+#include "ucon/replay/bound_adapter.hpp"
 #include "ucon/runtime/config_file.hpp"
 
 using ucon::base_controller::BaseControllerOutput;
 using ucon::base_controller::BaseControllerParams;
-using ucon::base_controller::LockstepReplay;
+using ucon::base_controller::BoundBaseController;
 
 namespace {
 constexpr int64_t kT0 = 1'700'000'000'000'000;
@@ -54,14 +55,23 @@ std::vector<uint8_t> replay(const BaseControllerParams& p, const std::string& pa
                             int64_t* decode_errors) {
   lcm::LogFile log(path, "r");
   EXPECT_TRUE(log.good());
-  LockstepReplay r(p);
+  ucon::replay::BoundAdapter<BoundBaseController> r(
+      ucon::base_controller::binding(p), std::make_unique<BoundBaseController>(p),
+      [](const BoundBaseController&, const ucon::replay::FeedCounts&) {
+        return std::vector<std::pair<std::string, int64_t>>{};
+      });
   std::vector<uint8_t> out;
+  std::vector<ucon::replay::OutputMessage> msgs;
   *events = 0;
+  *decode_errors = 0;
   for (const lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
     ++*events;
-    for (const auto& o : r.feed(e->channel, e->data, e->datalen)) append(&out, o);
+    msgs.clear();
+    const auto* data = static_cast<const uint8_t*>(e->data);
+    if (r.feed(e->channel, data, static_cast<std::size_t>(e->datalen), &msgs) == ucon::replay::FeedResult::kDecodeError)
+      ++*decode_errors;
+    for (const auto& m : msgs) out.insert(out.end(), m.data.begin(), m.data.end());
   }
-  *decode_errors = r.decodeErrors();
   return out;
 }
 }  // namespace

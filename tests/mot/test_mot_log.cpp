@@ -10,7 +10,7 @@
 #include <unistd.h>
 #include <vector>
 
-#include "mot_log.hpp"
+#include "ucon/mot/mot_log.hpp"
 #include "ucon/channels.hpp"
 #include "../support/test_support.hpp"
 

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "ucon/nav_goal_t.hpp"
 #include "ucon/process_status_t.hpp"
@@ -30,7 +31,8 @@ TEST(NodeRuntime, GivenMemqWhenAMessageIsPublishedThenTheHandlerGetsItAndTheLoop
         EXPECT_EQ(s.name, "test");
         EXPECT_EQ(s.utime, 77);
       });
-  rt->setStatusChannel("TEST_STATUS", 0.0, [] { return int64_t{77}; });
+  ucon::StatusReport report("test");
+  rt->setStatus("TEST_STATUS", 0.0, [&]() -> ucon::StatusReport& { return report; }, [] { return int64_t{77}; });
 
   ucon::nav_goal_t g{};
   g.goal_id = 9;
@@ -46,7 +48,8 @@ TEST(NodeRuntime, GivenMemqWhenAMessageIsPublishedThenTheHandlerGetsItAndTheLoop
   EXPECT_EQ(rc, 0);
   EXPECT_EQ(received, 1);
   EXPECT_EQ(goal_id, 9);
-  EXPECT_EQ(rt->status().counter("decode_errors"), 1);
+  EXPECT_EQ(rt->counter("decode_errors"), 1);
+  EXPECT_EQ(report.counter("decode_errors"), 1);  // the runtime's counters go into the status
   EXPECT_GE(statuses, 1);
   ucon::runtime::resetExitFlag();
 }
@@ -73,4 +76,85 @@ TEST(NodeRuntime, GivenABadUrlThenAProcessExitsNonZeroAndSaysWhy) {
   EXPECT_NE(status, 0);
   EXPECT_NE(out.find("bogus://nowhere"), std::string::npos) << out;
   EXPECT_NE(out.find("error"), std::string::npos) << out;
+}
+
+namespace {
+// A node for the binding test: counts goals, echoes each on TEST_ECHO, ticks after each input.
+struct EchoNode {
+  int goals = 0;
+  int ticks = 0;
+  int64_t now = 0;
+  ucon::StatusReport status{"echo"};
+};
+const ucon::runtime::Output<ucon::nav_goal_t> kEcho{"TEST_ECHO"};
+
+ucon::runtime::NodeBinding<EchoNode> echoBinding() {
+  using ucon::runtime::Outbox;
+  ucon::runtime::NodeBinding<EchoNode> b;
+  b.name = "echo";
+  b.inputs = {ucon::runtime::input<ucon::nav_goal_t, EchoNode>(
+      "NAV_GOAL", [](EchoNode& n, const ucon::nav_goal_t& g, Outbox& out) {
+        ++n.goals;
+        n.now = g.utime;
+        out.publish(kEcho, g);
+      })};
+  b.outputs = {kEcho.channel};
+  b.tick_rule = ucon::runtime::TickRule::afterInput(5);
+  b.tick = [](EchoNode& n, int64_t, Outbox&) { ++n.ticks; };
+  b.clock = [](const EchoNode& n) { return n.now; };
+  b.status_channel = "ECHO_STATUS";
+  b.status_period_s = 0.0;
+  b.status = [](EchoNode& n) -> ucon::StatusReport& {
+    n.status.setCounter("goals", n.goals);
+    return n.status;
+  };
+  b.done = [](const EchoNode& n) { return n.goals >= 2; };
+  return b;
+}
+}  // namespace
+
+TEST(NodeRuntime, GivenABindingWhenRunThenInputsReachTheNodeOutputsAreSentAndStatusCarriesBothCounters) {
+  ucon::runtime::resetExitFlag();
+  std::string err;
+  auto rt = NodeRuntime::open("echo", "memq://", &err);
+  ASSERT_TRUE(rt) << err;
+  std::vector<int64_t> echoed;
+  rt->subscribe<ucon::nav_goal_t>("TEST_ECHO", [&](const ucon::nav_goal_t& g, const std::string&) {
+    echoed.push_back(g.goal_id);
+  });
+  int64_t status_goals = -1, status_decode_errors = -1, status_utime = -1;
+  rt->subscribe<ucon::process_status_t>("ECHO_STATUS", [&](const ucon::process_status_t& s, const std::string&) {
+    for (int i = 0; i < s.num_counters; ++i) {
+      if (s.counter_names[i] == "goals") status_goals = s.counter_values[i];
+      if (s.counter_names[i] == "decode_errors") status_decode_errors = s.counter_values[i];
+    }
+    status_utime = s.utime;
+  });
+  EchoNode node;
+  bool sent = false;
+  ucon::runtime::RunOptions options;
+  options.after_tick = [&] {
+    if (sent) return;
+    sent = true;
+    const char junk[] = "not a goal";
+    rt->lcm().publish("NAV_GOAL", junk, sizeof(junk));
+    for (int id : {4, 5}) {
+      ucon::nav_goal_t g{};
+      g.utime = 1000 * id;
+      g.goal_id = id;
+      rt->publish("NAV_GOAL", g);
+    }
+  };
+  const int rc = rt->run(echoBinding(), node, options);
+  EXPECT_EQ(rc, 0);  // ended by the binding's done()
+  EXPECT_EQ(node.goals, 2);
+  EXPECT_GE(node.ticks, 2);
+  EXPECT_EQ(rt->counter("decode_errors"), 1);
+  rt->publishStatus();
+  for (int i = 0; i < 20 && (echoed.size() < 2 || status_goals < 2); ++i) rt->handleOnce(10);
+  EXPECT_EQ(echoed, (std::vector<int64_t>{4, 5}));
+  EXPECT_EQ(status_goals, 2);
+  EXPECT_EQ(status_decode_errors, 1);
+  EXPECT_EQ(status_utime, 5000);
+  ucon::runtime::resetExitFlag();
 }

@@ -341,8 +341,9 @@ int runLive(const DriverParams& params, const std::string& lcm_url) {
   runtime::installSignalHandlers();
   LiveDriver d(params, false);
   if (!d.open()) return 1;
-  StatusReport& status = rt->status();
-  rt->setStatusChannel(channels::kLidarStatus, params.status_period_s, [&d] { return d.node().now(); });
+  StatusReport status(kName);
+  rt->setStatus(channels::kLidarStatus, params.status_period_s, [&status]() -> StatusReport& { return status; },
+                [&d] { return d.node().now(); });
   if (!params.control.enabled) {
     logLine(kName, "info", "control disabled: listening on " + params.network.host_ip + ":" +
                                std::to_string(params.network.host_point_port) + " and :" +
@@ -497,8 +498,9 @@ int runPcap(const DriverParams& params, const std::string& lcm_url, const std::s
   runtime::installSignalHandlers();
   LidarDriverNode node(params);
   Router router(params);
-  StatusReport& status = rt->status();
-  rt->setStatusChannel(channels::kLidarStatus, params.status_period_s, [&node] { return node.now(); });
+  StatusReport status(kName);
+  rt->setStatus(channels::kLidarStatus, params.status_period_s, [&status]() -> StatusReport& { return status; },
+                [&node] { return node.now(); });
   const auto publish = [&](DriverOutputs& out) {
     for (const auto& c : out.clouds) rt->publish(channels::kLidarPoints, c);
     if (out.imu) rt->publish(channels::kLidarImu, *out.imu);

@@ -1,53 +1,14 @@
-// base_controller in lock step: LockstepReplay (procs/base_controller) already runs the node
-// on the control-period grid in message time; this adapter only encodes its outputs.
+// base_controller in lock step, wired by its binding (ucon/base_controller/binding.hpp): the
+// control step ticks on the period grid in message time, every tick due before a message first.
 #include <vector>
 
 #include "adapters.hpp"
-#include "ucon/base_controller/replay.hpp"
-#include "ucon/channels.hpp"
+#include "ucon/base_controller/binding.hpp"
 #include "ucon/config.hpp"
+#include "ucon/replay/bound_adapter.hpp"
 
 namespace ucon {
 namespace replay {
-
-namespace {
-
-class BaseControllerAdapter : public NodeAdapter {
- public:
-  explicit BaseControllerAdapter(const base_controller::BaseControllerParams& p) : replay_(p) {}
-
-  std::string name() const override { return "base_controller"; }
-  std::vector<std::string> inputChannels() const override {
-    return {channels::kRobotPose, channels::kPlannerTrajectory, channels::kBaseEstop};
-  }
-  std::vector<std::string> outputChannels() const override {
-    return {channels::kBaseWheelCmd, channels::kBaseStatus};
-  }
-
-  FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
-                  std::vector<OutputMessage>* out) override {
-    const int64_t errors_before = replay_.decodeErrors();
-    const int64_t ignored_before = replay_.ignored();
-    for (const auto& o : replay_.feed(channel, data, static_cast<int>(size))) {
-      if (o.wheel_cmd) out->push_back(encodeOutput(channels::kBaseWheelCmd, *o.wheel_cmd));
-      if (o.status) out->push_back(encodeOutput(channels::kBaseStatus, *o.status));
-    }
-    if (replay_.decodeErrors() != errors_before) return FeedResult::kDecodeError;
-    if (replay_.ignored() != ignored_before) return FeedResult::kIgnored;
-    return FeedResult::kHandled;
-  }
-
-  std::vector<std::pair<std::string, int64_t>> counters() const override {
-    auto c = replay_.node().counters();
-    c.emplace_back("decode_errors", replay_.decodeErrors());
-    return c;
-  }
-
- private:
-  base_controller::LockstepReplay replay_;
-};
-
-}  // namespace
 
 std::unique_ptr<NodeAdapter> makeBaseControllerAdapter(const std::string& yaml, const std::string& source,
                                                        std::string* error) {
@@ -61,7 +22,13 @@ std::unique_ptr<NodeAdapter> makeBaseControllerAdapter(const std::string& yaml, 
     if (error) *error = source + ": " + bad;
     return nullptr;
   }
-  return std::make_unique<BaseControllerAdapter>(*p);
+  return std::make_unique<BoundAdapter<base_controller::BoundBaseController>>(
+      base_controller::binding(*p), std::make_unique<base_controller::BoundBaseController>(*p),
+      [](const base_controller::BoundBaseController& n, const FeedCounts& c) {
+        auto counters = n.node.counters();
+        counters.emplace_back("decode_errors", c.decode_errors);
+        return counters;
+      });
 }
 
 }  // namespace replay

@@ -104,33 +104,61 @@ std::unique_ptr<NodeRuntime> NodeRuntime::open(const std::string& process_name,
 }
 
 NodeRuntime::NodeRuntime(std::string name, std::string url, std::unique_ptr<lcm::LCM> lcm)
-    : name_(std::move(name)), url_(std::move(url)), lcm_(std::move(lcm)), status_(name_) {
+    : name_(std::move(name)),
+      url_(std::move(url)),
+      lcm_(std::move(lcm)),
+      outbox_(
+          [this](const std::string& channel, int64_t, const uint8_t* data, std::size_t size) {
+            if (lcm_->publish(channel, data, static_cast<unsigned int>(size)) != 0) count("publish_errors");
+          },
+          [this](const char* level, const std::string& text) { logLine(name_, level, text); }) {
   next_status_ = std::chrono::steady_clock::now();
 }
 
 NodeRuntime::~NodeRuntime() = default;
 
-void NodeRuntime::setStatusChannel(const std::string& channel, double period_s,
-                                   std::function<int64_t()> message_time) {
+int64_t NodeRuntime::counter(const std::string& name) const {
+  const auto it = counters_.find(name);
+  return it == counters_.end() ? 0 : it->second;
+}
+
+void NodeRuntime::setStatus(const std::string& channel, double period_s, std::function<StatusReport&()> report,
+                            std::function<int64_t()> clock) {
   status_channel_ = channel;
   status_period_s_ = period_s;
-  message_time_ = std::move(message_time);
+  status_report_ = std::move(report);
+  status_clock_ = std::move(clock);
   next_status_ = std::chrono::steady_clock::now() +
                  std::chrono::microseconds(static_cast<int64_t>(period_s * 1e6));
 }
 
 void NodeRuntime::publishStatus() {
-  if (status_channel_.empty()) return;
-  const int64_t t = message_time_ ? message_time_() : 0;
-  process_status_t msg = status_.build(t, wallUtime());
-  publish(status_channel_, msg);
+  if (status_channel_.empty() || !status_report_) return;
+  StatusReport& r = status_report_();
+  for (const char* c : {"decode_errors", "publish_errors"}) r.setCounter(c, counter(c));
+  for (const auto& extra : status_extras_) extra(r);
+  const int64_t t = status_clock_ ? status_clock_() : 0;
+  publish(status_channel_, r.build(t, wallUtime()));
+}
+
+void NodeRuntime::subscribeRaw(const std::string& channel, std::function<void(const uint8_t*, std::size_t)> fn,
+                               int queue_capacity) {
+  auto h = std::make_unique<RawHandler>();
+  h->fn = std::move(fn);
+  lcm::Subscription* sub = lcm_->subscribe(channel, &RawHandler::onRaw, h.get());
+  if (sub) sub->setQueueCapacity(queue_capacity);
+  handlers_.push_back(std::move(h));
 }
 
 int NodeRuntime::handleOnce(int timeout_ms) { return lcm_->handleTimeout(timeout_ms); }
 
 int NodeRuntime::spin(int timeout_ms, const std::function<void()>& tick) {
+  return loop([timeout_ms] { return timeout_ms; }, tick);
+}
+
+int NodeRuntime::loop(const std::function<int()>& timeout_ms, const std::function<void()>& tick) {
   while (!exitRequested()) {
-    const int rc = lcm_->handleTimeout(timeout_ms);
+    const int rc = lcm_->handleTimeout(timeout_ms());
     if (rc < 0) {
       // A signal interrupts the wait (EINTR): that is the normal way out, not an error.
       if (exitRequested() || errno == EINTR) continue;

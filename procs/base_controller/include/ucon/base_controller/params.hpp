@@ -60,7 +60,12 @@ struct BackendParams {
 
 /// Everything the node (and its process) needs.
 struct BaseControllerParams {
-  mecanum::MecanumParams mecanum;     ///< section "mecanum"
+  /// Section "mecanum": the ucon::mecanum defaults, except the motor limit of the shipped base.
+  mecanum::MecanumParams mecanum = [] {
+    mecanum::MecanumParams m;
+    m.max_wheel_speed = 50.0;  // [rad/s] 2.5 m/s at the rim (deploy/config/base_controller.yaml)
+    return m;
+  }();
   ControlParams control;              ///< section "control"
   HeadingParams heading;              ///< section "heading"
   WatchdogParams watchdog;            ///< section "watchdog"

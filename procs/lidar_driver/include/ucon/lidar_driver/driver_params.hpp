@@ -78,9 +78,12 @@ struct SensorParams {
   std::string ip = "127.0.0.1";   ///< the sensor's IPv4 (factory 192.168.1.1XX, XX the serial's
                                   ///< last two digits); "auto": the first Mid-360 that answers
                                   ///< discovery (or, without control, that sends data)
-  std::vector<double> xyz = {0.0, 0.0, 0.0};      ///< [m] sensor origin in the body frame, [-10, 10]
-  std::vector<double> rpy_deg = {0.0, 0.0, 0.0};  ///< [deg] roll, pitch, yaw (R = Rz Ry Rx),
-                                                  ///< [-360, 360]: p_base = R p_sensor + xyz
+  /// [m] sensor origin in the body frame, each in [-10, 10]; the shipped mount: 0.5 m above
+  /// the base origin
+  std::vector<double> xyz = {0.0, 0.0, 0.5};
+  /// [deg] roll, pitch, yaw (R = Rz Ry Rx), each in [-360, 360], p_base = R p_sensor + xyz;
+  /// the shipped mount: upside down
+  std::vector<double> rpy_deg = {180.0, 0.0, 0.0};
   bool imu = true;                ///< publish this sensor's IMU on LIDAR_IMU (at most one sensor);
                                   ///< the others are told not to send IMU packets
   void read(ConfigReader& r);

@@ -1,18 +1,15 @@
 #pragma once
 /// @file node_adapter.hpp
-/// How a node is driven in lock step from recorded messages, without LCM: one small adapter
-/// per node says which channels it consumes, hands each message to the right handler, runs
-/// the ticks the live process would run around it, and returns what the node asked to publish
-/// (encoded, with the message's utime). The replay tool, the in-process recorder and the tests
-/// all drive nodes through this interface, so they feed a node exactly the same way.
+/// How a node is driven in lock step from recorded messages, without LCM: an adapter says
+/// which channels the node consumes, hands each message to the right handler, runs the ticks
+/// the live process would run around it, and returns what the node asked to publish (encoded,
+/// with the message's utime). The replay tool, the in-process recorder and the tests all drive
+/// nodes through this interface, so they feed a node exactly the same way.
 ///
-/// Tick rule per node (mirrors its main.cpp):
-///  - base_controller: ticks on the control-period grid in message time, every tick due
-///    before a message runs first (LockstepReplay / ControlTimer message mode);
-///  - perception, planner: tick(now) after every message (their mains call tick once per
-///    handled message), "now" being the newest input utime.
-/// Outputs that carry wall-clock data (the <NODE>_STATUS process status) are not produced:
-/// a replay writes only what the node computes from its inputs.
+/// A node's adapter is a BoundAdapter (bound_adapter.hpp) made from the node's binding, the
+/// same declaration of channels, handlers and tick rule that its process runs on. Outputs
+/// that carry wall-clock data (the <NODE>_STATUS process status) are not produced: a replay
+/// writes only what the node computes from its inputs.
 
 #include <cstddef>
 #include <cstdint>

@@ -78,7 +78,13 @@ struct SimulatorParams {
   ImuParams imu;
   NetParams net;
   std::vector<ExtraLidarParams> extra_lidars;  ///< more Mid-360s (0 to 7); empty: one sensor
-  mecanum::MecanumPlantParams base;   ///< section `base`: geometry keys + motor_time_constant, max_wheel_accel
+  /// Section `base`: geometry keys + motor_time_constant, max_wheel_accel; the ucon::mecanum
+  /// defaults, except the motor limit of the shipped base.
+  mecanum::MecanumPlantParams base = [] {
+    mecanum::MecanumPlantParams b;
+    b.geometry.max_wheel_speed = 50.0;  // [rad/s] 2.5 m/s at the rim
+    return b;
+  }();
 
   void read(ConfigReader& r);
   /// Empty if consistent, else the bad key and why.

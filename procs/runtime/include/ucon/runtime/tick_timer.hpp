@@ -1,8 +1,8 @@
 #pragma once
-/// @file control_timer.hpp
-/// When to run the control step, and with which message time.
+/// @file tick_timer.hpp
+/// When to run a periodic tick (TickRule::kPeriodic), and with which message time.
 ///
-/// Live, the loop runs on its own timer (wall clock) so that the watchdog fires even when no
+/// Live, the loop runs on its own timer (wall clock) so that a watchdog fires even when no
 /// message arrives; the time passed to the node is message time: the newest message utime plus
 /// the wall time elapsed since it was received. In replay ("message" mode) ticks fall on every
 /// multiple of the period up to the newest message time, so a log replays identically.
@@ -12,14 +12,14 @@
 #include <vector>
 
 namespace ucon {
-namespace base_controller {
+namespace runtime {
 
-class ControlTimer {
+class TickTimer {
  public:
   enum class Mode { kLive, kMessage };
 
   /// `rate_hz` > 0.
-  ControlTimer(Mode mode, double rate_hz);
+  TickTimer(Mode mode, double rate_hz);
 
   /// Notes a message with time `msg_utime` [us] received at wall time `wall_utime` [us].
   /// Non-positive or older message times are ignored.
@@ -48,5 +48,5 @@ class ControlTimer {
   int64_t skipped_ = 0;
 };
 
-}  // namespace base_controller
+}  // namespace runtime
 }  // namespace ucon

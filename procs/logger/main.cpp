@@ -241,12 +241,13 @@ int main(int argc, char** argv) {
   lcm::Subscription* sub = rt->lcm().subscribe(".*", &Recorder::onMessage, &recorder);
   if (sub) sub->setQueueCapacity(100000);
 
-  rt->setStatusChannel(ucon::channels::kLoggerStatus, params->status_period_s,
-                       [] { return ucon::runtime::wallUtime(); });
+  // The logger's status is stamped with the wall clock: it records, it computes nothing.
+  ucon::StatusReport st(kName);
+  rt->setStatus(ucon::channels::kLoggerStatus, params->status_period_s,
+                [&st]() -> ucon::StatusReport& { return st; }, [] { return ucon::runtime::wallUtime(); });
   logLine(kName, "info", "recording '" + params->include + "'" +
                              (params->exclude.empty() ? "" : " except '" + params->exclude + "'") +
                              " into " + log_dir + "/" + params->run_name + "_*.lcm");
-  auto& st = rt->status();
   auto next_update = std::chrono::steady_clock::now();
   const int rc = rt->spin(100, [&] {
     // The loop ticks after every message; refresh the status counters at 10 Hz only.

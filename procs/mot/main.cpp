@@ -10,7 +10,7 @@
 #include <iostream>
 #include <string>
 
-#include "mot_log.hpp"
+#include "ucon/mot/mot_log.hpp"
 #include "ucon/mot/mot_challenge.hpp"
 #include "ucon/runtime/config_file.hpp"
 

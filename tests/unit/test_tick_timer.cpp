@@ -1,11 +1,11 @@
 #include <gtest/gtest.h>
 
-#include "ucon/base_controller/control_timer.hpp"
+#include "ucon/runtime/tick_timer.hpp"
 
-using ucon::base_controller::ControlTimer;
+using ucon::runtime::TickTimer;
 
-TEST(ControlTimer, GivenLiveModeWhenMessagesStopThenTicksContinueOnWallTimeWithExtrapolatedTime) {
-  ControlTimer timer(ControlTimer::Mode::kLive, 100.0);
+TEST(TickTimer, GivenLiveModeWhenMessagesStopThenTicksContinueOnWallTimeWithExtrapolatedTime) {
+  TickTimer timer(TickTimer::Mode::kLive, 100.0);
   EXPECT_TRUE(timer.due(0).empty());  // nothing before the first message
   timer.observe(5'000'000, 1'000'000);  // message time 5 s received at wall 1 s
   auto t = timer.due(1'000'000);
@@ -21,8 +21,8 @@ TEST(ControlTimer, GivenLiveModeWhenMessagesStopThenTicksContinueOnWallTimeWithE
   EXPECT_EQ(timer.nextWallDeadline(), 1'310'000);  // fell behind: no burst of catch-up ticks
 }
 
-TEST(ControlTimer, GivenMessageModeThenTicksOnEveryPeriodBeforeTheNewestMessage) {
-  ControlTimer timer(ControlTimer::Mode::kMessage, 100.0);
+TEST(TickTimer, GivenMessageModeThenTicksOnEveryPeriodBeforeTheNewestMessage) {
+  TickTimer timer(TickTimer::Mode::kMessage, 100.0);
   timer.observe(1'003'000, 0);
   EXPECT_TRUE(timer.due(0).empty());
   timer.observe(1'035'000, 999'999'999);  // wall time is irrelevant
@@ -39,12 +39,12 @@ TEST(ControlTimer, GivenMessageModeThenTicksOnEveryPeriodBeforeTheNewestMessage)
   ASSERT_EQ(timer.due(0).size(), 1u);
 }
 
-TEST(ControlTimer, GivenAHugeJumpInMessageTimeThenBurstIsCappedAndSkipsCounted) {
-  ControlTimer timer(ControlTimer::Mode::kMessage, 100.0);
+TEST(TickTimer, GivenAHugeJumpInMessageTimeThenBurstIsCappedAndSkipsCounted) {
+  TickTimer timer(TickTimer::Mode::kMessage, 100.0);
   timer.observe(1'000'000, 0);
   timer.observe(1'000'000 + 3600LL * 1'000'000, 0);  // an hour later
   const auto t = timer.due(0);
-  EXPECT_EQ(static_cast<int>(t.size()), ControlTimer::kMaxBurst);
+  EXPECT_EQ(static_cast<int>(t.size()), TickTimer::kMaxBurst);
   EXPECT_EQ(t.back(), 1'000'000 + 3600LL * 1'000'000 - 10'000);  // the last tick before it
-  EXPECT_EQ(timer.skippedTicks(), 360000 - ControlTimer::kMaxBurst);
+  EXPECT_EQ(timer.skippedTicks(), 360000 - TickTimer::kMaxBurst);
 }

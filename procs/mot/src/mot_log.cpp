@@ -1,4 +1,4 @@
-#include "mot_log.hpp"
+#include "ucon/mot/mot_log.hpp"
 
 #include <lcm/lcm-cpp.hpp>
 

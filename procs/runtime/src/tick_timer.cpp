@@ -1,16 +1,16 @@
-#include "ucon/base_controller/control_timer.hpp"
+#include "ucon/runtime/tick_timer.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace ucon {
-namespace base_controller {
+namespace runtime {
 
-ControlTimer::ControlTimer(Mode mode, double rate_hz)
+TickTimer::TickTimer(Mode mode, double rate_hz)
     : mode_(mode),
       period_us_(std::max<int64_t>(1, static_cast<int64_t>(std::llround(1e6 / std::max(rate_hz, 1e-3))))) {}
 
-void ControlTimer::observe(int64_t msg_utime, int64_t wall_utime) {
+void TickTimer::observe(int64_t msg_utime, int64_t wall_utime) {
   if (msg_utime <= 0 || msg_utime < anchor_msg_) return;
   anchor_msg_ = msg_utime;
   anchor_wall_ = wall_utime;
@@ -21,7 +21,7 @@ void ControlTimer::observe(int64_t msg_utime, int64_t wall_utime) {
   }
 }
 
-std::vector<int64_t> ControlTimer::due(int64_t wall_utime) {
+std::vector<int64_t> TickTimer::due(int64_t wall_utime) {
   std::vector<int64_t> out;
   if (anchor_msg_ == 0) return out;
   if (mode_ == Mode::kLive) {
@@ -47,5 +47,5 @@ std::vector<int64_t> ControlTimer::due(int64_t wall_utime) {
   return out;
 }
 
-}  // namespace base_controller
+}  // namespace runtime
 }  // namespace ucon

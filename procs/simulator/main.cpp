@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <string>
 
-#include "udp.hpp"
+#include "src/udp.hpp"
 #include "ucon/channels.hpp"
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/runtime/node_runtime.hpp"
@@ -118,11 +118,13 @@ int main(int argc, char** argv) {
     runtime::logLine(kName, "error", err);
     return 1;
   }
+  StatusReport status(kName);
   rt->subscribe<wheel_cmd_t>(channels::kBaseWheelCmd,
                              [&](const wheel_cmd_t& c, const std::string&) {
-                               if (!sim.onWheelCmd(c)) rt->status().count("bad_wheel_cmds");
+                               if (!sim.onWheelCmd(c)) status.count("bad_wheel_cmds");
                              });
-  rt->setStatusChannel(channels::kSimStatus, params->status_period_s, [&] { return sim.utime(); });
+  rt->setStatus(channels::kSimStatus, params->status_period_s, [&]() -> StatusReport& { return status; },
+                [&] { return sim.utime(); });
 
   using Clock = std::chrono::steady_clock;
   auto wall0 = Clock::now();
@@ -159,7 +161,7 @@ int main(int argc, char** argv) {
     for (const auto& p : out.poses) rt->publish(channels::kRobotPose, p);
     for (const auto& g : out.ground_truth) rt->publish(channels::kSimGroundTruth, g);
 
-    auto& st = rt->status();
+    auto& st = status;
     const auto& c = sim.counters();
     st.setCounter("point_packets", c.packets);
     st.setCounter("points", c.points);

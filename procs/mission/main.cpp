@@ -7,15 +7,14 @@
 #include <cstdio>
 #include <fstream>
 
-#include "ucon/channels.hpp"
-#include "ucon/mission/mission_node.hpp"
+#include "ucon/mission/binding.hpp"
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/runtime/node_runtime.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
 
 int main(int argc, char** argv) {
   using ucon::runtime::logLine;
-  constexpr const char* kName = "mission";
+  const std::string kName = "mission";
   CLI::App app{"Send a scenario's goals, watch the run, print a summary."};
   std::string config = "deploy/config/mission.yaml", scenario_spec = "pedestrians", scenario_dir,
               url, summary_json;
@@ -43,41 +42,30 @@ int main(int argc, char** argv) {
     logLine(kName, "error", "scenario '" + scenario_spec + "' has no goals");
     return 2;
   }
-  auto rt = ucon::runtime::NodeRuntime::open(kName, url, &err);
-  if (!rt) {
+  auto io = ucon::runtime::NodeRuntime::open(kName, url, &err);
+  if (!io) {
     logLine(kName, "error", err);
     return 1;
   }
   ucon::runtime::installSignalHandlers();
 
   ucon::mission::MissionNode node(*params, scenario->robot.goals, duration);
-  namespace ch = ucon::channels;
-  rt->subscribe<ucon::robot_pose_t>(ch::kRobotPose, [&](const ucon::robot_pose_t& m, const std::string&) {
-    if (auto g = node.onPose(m)) rt->publish(ch::kNavGoal, *g);
-    if (node.done()) ucon::runtime::requestExit();
-  });
-  rt->subscribe<ucon::sim_ground_truth_t>(ch::kSimGroundTruth,
-      [&](const ucon::sim_ground_truth_t& m, const std::string&) { node.onGroundTruth(m); });
-  rt->subscribe<ucon::tracked_objects_t>(ch::kPerceptionObjects,
-      [&](const ucon::tracked_objects_t& m, const std::string&) { node.onObjects(m); });
-  rt->subscribe<ucon::process_status_t>(ch::kPlannerStatus,
-      [&](const ucon::process_status_t& m, const std::string&) { node.onPlannerStatus(m); });
-  rt->subscribe<ucon::supervisor_status_t>(ch::kProcStatus,
-      [&](const ucon::supervisor_status_t& m, const std::string&) { node.onProcStatus(m); });
-
   std::printf("mission: scenario %s, %zu goal(s)%s\n", scenario->name.c_str(),
               scenario->robot.goals.size(),
               duration > 0 ? (", at most " + std::to_string(static_cast<int>(duration)) + " s").c_str() : "");
   std::fflush(stdout);
+  // A live status line every second (wall time: it is for the person watching).
+  ucon::runtime::RunOptions options;
   auto next_line = std::chrono::steady_clock::now() + std::chrono::seconds(1);
-  rt->spin(50, [&] {
+  options.after_tick = [&] {
     const auto now = std::chrono::steady_clock::now();
     if (now >= next_line) {
       std::printf("%s\n", node.statusLine().c_str());
       std::fflush(stdout);
       next_line = now + std::chrono::seconds(1);
     }
-  });
+  };
+  io->run(ucon::mission::binding(), node, options);
   const std::string reason = node.done() ? node.endReason() : "interrupted";
   const auto summary = node.summary();
   std::printf("%s", ucon::mission::MissionNode::format(summary, reason).c_str());

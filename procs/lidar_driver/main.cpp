@@ -3,7 +3,7 @@
 // The node (LidarDriverNode) holds the logic; driver_app.cpp moves bytes (live, --check, --pcap).
 #include <CLI/CLI.hpp>
 
-#include "driver_app.hpp"
+#include "src/driver_app.hpp"
 #include "ucon/runtime/config_file.hpp"
 
 int main(int argc, char** argv) {

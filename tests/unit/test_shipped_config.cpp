@@ -1,0 +1,175 @@
+// One source of truth per parameter: for every process, loading its shipped YAML
+// (deploy/config/<process>.yaml) gives the in-class defaults, field by field, and every key of
+// the file is checked (a key added to the file and to the struct but not here fails).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "shipped_config.hpp"
+#include "ucon/base_controller/params.hpp"
+#include "ucon/lidar_driver/driver_params.hpp"
+#include "ucon/logger/logger_params.hpp"
+#include "ucon/mission/mission_node.hpp"
+#include "ucon/simulator/params.hpp"
+
+using test_support::ShippedConfig;
+
+
+TEST(ShippedConfig, GivenBaseControllerYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::base_controller::BaseControllerParams> c("deploy/config/base_controller.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::base_controller::BaseControllerParams d;
+  c.expect("mecanum.wheel_radius", s.mecanum.wheel_radius, d.mecanum.wheel_radius);
+  c.expect("mecanum.half_wheelbase", s.mecanum.half_wheelbase, d.mecanum.half_wheelbase);
+  c.expect("mecanum.half_track", s.mecanum.half_track, d.mecanum.half_track);
+  c.expect("mecanum.max_wheel_speed", s.mecanum.max_wheel_speed, d.mecanum.max_wheel_speed);
+  c.expect("mecanum.motor_order", s.mecanum.motor_order, d.mecanum.motor_order);
+  c.expect("mecanum.motor_sign", s.mecanum.motor_sign, d.mecanum.motor_sign);
+  c.expect("control.rate_hz", s.control.rate_hz, d.control.rate_hz);
+  c.expect("control.lead_s", s.control.lead_s, d.control.lead_s);
+  c.expect("control.kp_position", s.control.kp_position, d.control.kp_position);
+  c.expect("control.kd_velocity", s.control.kd_velocity, d.control.kd_velocity);
+  c.expect("control.accel_feedforward_s", s.control.accel_feedforward_s, d.control.accel_feedforward_s);
+  c.expect("control.max_feedback_speed", s.control.max_feedback_speed, d.control.max_feedback_speed);
+  c.expect("control.max_speed", s.control.max_speed, d.control.max_speed);
+  c.expect("control.max_linear_accel", s.control.max_linear_accel, d.control.max_linear_accel);
+  c.expect("control.kp_yaw", s.control.kp_yaw, d.control.kp_yaw);
+  c.expect("control.max_yaw_rate", s.control.max_yaw_rate, d.control.max_yaw_rate);
+  c.expect("control.max_yaw_accel", s.control.max_yaw_accel, d.control.max_yaw_accel);
+  c.expect("heading.mode", s.heading.mode, d.heading.mode);
+  c.expect("heading.hold_yaw", s.heading.hold_yaw, d.heading.hold_yaw);
+  c.expect("heading.min_path_speed", s.heading.min_path_speed, d.heading.min_path_speed);
+  c.expect("watchdog.pose_timeout_s", s.watchdog.pose_timeout_s, d.watchdog.pose_timeout_s);
+  c.expect("watchdog.trajectory_timeout_s", s.watchdog.trajectory_timeout_s, d.watchdog.trajectory_timeout_s);
+  c.expect("watchdog.stop_linear_decel", s.watchdog.stop_linear_decel, d.watchdog.stop_linear_decel);
+  c.expect("watchdog.stop_angular_decel", s.watchdog.stop_angular_decel, d.watchdog.stop_angular_decel);
+  c.expect("watchdog.max_reference_speed", s.watchdog.max_reference_speed, d.watchdog.max_reference_speed);
+  c.expect("backend.type", s.backend.type, d.backend.type);
+  c.expect("backend.serial_device", s.backend.serial_device, d.backend.serial_device);
+  c.expect("backend.serial_baud", s.backend.serial_baud, d.backend.serial_baud);
+  c.expect("status_period_s", s.status_period_s, d.status_period_s);
+  c.expectEveryKeyChecked();
+}
+
+TEST(ShippedConfig, GivenLidarDriverYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::lidar_driver::DriverParams> c("deploy/config/lidar_driver.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::lidar_driver::DriverParams d;
+  c.expect("network.host_ip", s.network.host_ip, d.network.host_ip);
+  c.expect("network.discovery", s.network.discovery, d.network.discovery);
+  c.expect("network.discovery_address", s.network.discovery_address, d.network.discovery_address);
+  c.expect("network.discovery_port", s.network.discovery_port, d.network.discovery_port);
+  c.expect("network.sensor_command_port", s.network.sensor_command_port, d.network.sensor_command_port);
+  c.expect("network.sensor_push_port", s.network.sensor_push_port, d.network.sensor_push_port);
+  c.expect("network.sensor_point_port", s.network.sensor_point_port, d.network.sensor_point_port);
+  c.expect("network.sensor_imu_port", s.network.sensor_imu_port, d.network.sensor_imu_port);
+  c.expect("network.host_command_port", s.network.host_command_port, d.network.host_command_port);
+  c.expect("network.host_push_port", s.network.host_push_port, d.network.host_push_port);
+  c.expect("network.host_point_port", s.network.host_point_port, d.network.host_point_port);
+  c.expect("network.host_imu_port", s.network.host_imu_port, d.network.host_imu_port);
+  c.expect("network.socket_buffer_bytes", s.network.socket_buffer_bytes, d.network.socket_buffer_bytes);
+  c.expect("control.enabled", s.control.enabled, d.control.enabled);
+  c.expect("control.timeout_s", s.control.timeout_s, d.control.timeout_s);
+  c.expect("control.retry_interval_s", s.control.retry_interval_s, d.control.retry_interval_s);
+  c.expect("control.work_mode", s.control.work_mode, d.control.work_mode);
+  c.expect("control.point_data_type", s.control.point_data_type, d.control.point_data_type);
+  c.expect("control.reset_install_attitude", s.control.reset_install_attitude, d.control.reset_install_attitude);
+  c.expect("control.reconfigure_after_s", s.control.reconfigure_after_s, d.control.reconfigure_after_s);
+  c.expect("frame.rate_hz", s.frame.rate_hz, d.frame.rate_hz);
+  c.expect("frame.max_points", s.frame.max_points, d.frame.max_points);
+  c.expect("frame.idle_flush_s", s.frame.idle_flush_s, d.frame.idle_flush_s);
+  c.expect("frame.apply_extrinsic", s.frame.apply_extrinsic, d.frame.apply_extrinsic);
+  c.expect("frame.merge_wait_s", s.frame.merge_wait_s, d.frame.merge_wait_s);
+  c.expect("filter.min_range_m", s.filter.min_range_m, d.filter.min_range_m);
+  c.expect("filter.max_range_m", s.filter.max_range_m, d.filter.max_range_m);
+  c.expect("filter.drop_sticking_level", s.filter.drop_sticking_level, d.filter.drop_sticking_level);
+  c.expect("filter.drop_rain_fog_dust_level", s.filter.drop_rain_fog_dust_level, d.filter.drop_rain_fog_dust_level);
+  c.expect("filter.drop_other_noise_level", s.filter.drop_other_noise_level, d.filter.drop_other_noise_level);
+  // The list of sensors: the shipped one is the default sensor.
+  c.expect("sensors", s.sensors.size(), d.sensors.size());
+  ASSERT_EQ(s.sensors.size(), 1u);
+  EXPECT_EQ(s.sensors[0].ip, d.sensors[0].ip);
+  EXPECT_EQ(s.sensors[0].xyz, d.sensors[0].xyz);
+  EXPECT_EQ(s.sensors[0].rpy_deg, d.sensors[0].rpy_deg);
+  EXPECT_EQ(s.sensors[0].imu, d.sensors[0].imu);
+  c.expect("status_period_s", s.status_period_s, d.status_period_s);
+  c.expectEveryKeyChecked();
+}
+
+TEST(ShippedConfig, GivenLoggerYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::logger::LoggerParams> c("deploy/config/logger.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::logger::LoggerParams d;
+  c.expect("include", s.include, d.include);
+  c.expect("exclude", s.exclude, d.exclude);
+  c.expect("run_name", s.run_name, d.run_name);
+  c.expect("max_file_mb", s.max_file_mb, d.max_file_mb);
+  c.expect("max_file_s", s.max_file_s, d.max_file_s);
+  c.expect("flush_interval_s", s.flush_interval_s, d.flush_interval_s);
+  c.expect("min_free_mb", s.min_free_mb, d.min_free_mb);
+  c.expect("queue_limit_mb", s.queue_limit_mb, d.queue_limit_mb);
+  c.expect("status_period_s", s.status_period_s, d.status_period_s);
+  c.expectEveryKeyChecked();
+}
+
+TEST(ShippedConfig, GivenMissionYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::mission::MissionParams> c("deploy/config/mission.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::mission::MissionParams d;
+  c.expect("goal_tolerance", s.goal_tolerance, d.goal_tolerance);
+  c.expect("resend_period_s", s.resend_period_s, d.resend_period_s);
+  c.expect("mot_threshold", s.mot_threshold, d.mot_threshold);
+  c.expect("min_visible", s.min_visible, d.min_visible);
+  c.expect("max_gt_lag_s", s.max_gt_lag_s, d.max_gt_lag_s);
+  c.expect("settle_s", s.settle_s, d.settle_s);
+  c.expectEveryKeyChecked();
+}
+
+TEST(ShippedConfig, GivenSimulatorYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::simulator::SimulatorParams> c("deploy/config/simulator.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::simulator::SimulatorParams d;
+  c.expect("start_utime", s.start_utime, d.start_utime);
+  c.expect("frame_rate_hz", s.frame_rate_hz, d.frame_rate_hz);
+  c.expect("pose_rate_hz", s.pose_rate_hz, d.pose_rate_hz);
+  c.expect("cmd_timeout_s", s.cmd_timeout_s, d.cmd_timeout_s);
+  c.expect("status_period_s", s.status_period_s, d.status_period_s);
+  c.expect("lidar.point_rate", s.lidar.point_rate, d.lidar.point_rate);
+  c.expect("lidar.data_type", s.lidar.data_type, d.lidar.data_type);
+  c.expect("lidar.min_range", s.lidar.min_range, d.lidar.min_range);
+  c.expect("lidar.max_range", s.lidar.max_range, d.lidar.max_range);
+  c.expect("lidar.range_noise_sigma", s.lidar.range_noise_sigma, d.lidar.range_noise_sigma);
+  c.expect("lidar.elevation_min_deg", s.lidar.elevation_min_deg, d.lidar.elevation_min_deg);
+  c.expect("lidar.elevation_max_deg", s.lidar.elevation_max_deg, d.lidar.elevation_max_deg);
+  c.expect("lidar.mount_xyz", s.lidar.mount_xyz, d.lidar.mount_xyz);
+  c.expect("lidar.mount_rpy_deg", s.lidar.mount_rpy_deg, d.lidar.mount_rpy_deg);
+  c.expect("lidar.ground_reflectivity", s.lidar.ground_reflectivity, d.lidar.ground_reflectivity);
+  c.expect("lidar.seed", s.lidar.seed, d.lidar.seed);
+  c.expect("imu.rate_hz", s.imu.rate_hz, d.imu.rate_hz);
+  c.expect("imu.gyro_noise_sigma", s.imu.gyro_noise_sigma, d.imu.gyro_noise_sigma);
+  c.expect("imu.acc_noise_sigma", s.imu.acc_noise_sigma, d.imu.acc_noise_sigma);
+  c.expect("net.host_ip", s.net.host_ip, d.net.host_ip);
+  c.expect("net.host_point_port", s.net.host_point_port, d.net.host_point_port);
+  c.expect("net.host_imu_port", s.net.host_imu_port, d.net.host_imu_port);
+  c.expect("net.sensor_ip", s.net.sensor_ip, d.net.sensor_ip);
+  c.expect("net.discovery_port", s.net.discovery_port, d.net.discovery_port);
+  c.expect("net.command_port", s.net.command_port, d.net.command_port);
+  c.expect("net.point_src_port", s.net.point_src_port, d.net.point_src_port);
+  c.expect("net.imu_src_port", s.net.imu_src_port, d.net.imu_src_port);
+  c.expect("net.serial", s.net.serial, d.net.serial);
+  c.expect("extra_lidars", s.extra_lidars.size(), d.extra_lidars.size());
+  c.expect("base.wheel_radius", s.base.geometry.wheel_radius, d.base.geometry.wheel_radius);
+  c.expect("base.half_wheelbase", s.base.geometry.half_wheelbase, d.base.geometry.half_wheelbase);
+  c.expect("base.half_track", s.base.geometry.half_track, d.base.geometry.half_track);
+  c.expect("base.max_wheel_speed", s.base.geometry.max_wheel_speed, d.base.geometry.max_wheel_speed);
+  c.expect("base.motor_order", s.base.geometry.motor_order, d.base.geometry.motor_order);
+  c.expect("base.motor_sign", s.base.geometry.motor_sign, d.base.geometry.motor_sign);
+  c.expect("base.motor_time_constant", s.base.motor_time_constant, d.base.motor_time_constant);
+  c.expect("base.max_wheel_accel", s.base.max_wheel_accel, d.base.max_wheel_accel);
+  c.expectEveryKeyChecked();
+}
