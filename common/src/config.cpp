@@ -244,6 +244,31 @@ ConfigReader ConfigReader::section(const std::string& key) {
   return ConfigReader(std::move(impl));
 }
 
+std::vector<ConfigReader> ConfigReader::sections(const std::string& key) {
+  std::vector<ConfigReader> out;
+  auto n = impl_->get(key);
+  if (!n) return out;
+  if (!n->IsSequence()) {
+    impl_->error(key, "expected a list of mappings, got " + describe(*n));
+    return out;
+  }
+  for (std::size_t i = 0; i < n->size(); ++i) {
+    const YAML::Node e = (*n)[i];
+    const std::string name = key + "[" + std::to_string(i) + "]";
+    if (!e.IsMap()) {
+      impl_->error(name, "expected a mapping (a section of keys), got " + describe(e));
+      continue;
+    }
+    auto impl = std::make_unique<Impl>();
+    impl->state = impl_->state;
+    impl->prefix = join(impl_->prefix, name);
+    impl->node = e;
+    impl_->state->mappings[impl->prefix] = e;
+    out.push_back(ConfigReader(std::move(impl)));
+  }
+  return out;
+}
+
 void ConfigReader::fail(const std::string& key, const std::string& message) {
   impl_->error(key, message);
 }

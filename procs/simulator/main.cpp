@@ -86,22 +86,30 @@ int main(int argc, char** argv) {
                          std::to_string(scenario->duration_s) + " s");
   }
 
-  // Sockets: the emulated sensor's control ports (discovery + commands) and its data senders.
-  simulator::UdpSocket discovery, command, point_out, imu_out;
-  if (!discovery.open(*sensor_ip, static_cast<uint16_t>(params->net.discovery_port), &err) ||
-      !command.open(*sensor_ip, static_cast<uint16_t>(params->net.command_port), &err)) {
-    runtime::logLine(kName, "error", "control socket: " + err + " (is another simulator or a sensor emulator running?)");
-    return 1;
-  }
-  for (auto [sock, port, what] : {std::make_tuple(&point_out, params->net.point_src_port, "point"),
-                                   std::make_tuple(&imu_out, params->net.imu_src_port, "imu")}) {
-    if (!sock->open(*sensor_ip, static_cast<uint16_t>(port), &err)) {
-      runtime::logLine(kName, "warn", std::string(what) + " source port: " + err + "; using any port");
-      if (!sock->open(*sensor_ip, 0, &err)) {
-        runtime::logLine(kName, "error", std::string(what) + " socket: " + err);
-        return 1;
-      }
+  // Sockets of the emulated sensors: control (discovery, commands) and data senders.
+  std::vector<std::array<uint8_t, 4>> sensor_ips = {*sensor_ip};
+  for (const auto& e : params->extra_lidars) {
+    const auto ip = livox::parseIpv4(e.sensor_ip);
+    if (!ip) {
+      runtime::logLine(kName, "error", "config " + config_path + ": extra_lidars sensor_ip '" + e.sensor_ip +
+                                           "' is not an IPv4 address");
+      return 2;
     }
+    sensor_ips.push_back(*ip);
+  }
+  simulator::SensorSockets sensors;
+  {
+    simulator::SensorSockets::Ports ports;
+    ports.discovery = static_cast<uint16_t>(params->net.discovery_port);
+    ports.command = static_cast<uint16_t>(params->net.command_port);
+    ports.point = static_cast<uint16_t>(params->net.point_src_port);
+    ports.imu = static_cast<uint16_t>(params->net.imu_src_port);
+    std::string warn;
+    if (!sensors.open(sensor_ips, ports, &err, &warn)) {
+      runtime::logLine(kName, "error", err);
+      return 1;
+    }
+    if (!warn.empty()) runtime::logLine(kName, "warn", warn);
   }
 
   runtime::installSignalHandlers();
@@ -123,26 +131,16 @@ int main(int argc, char** argv) {
   int64_t sim0 = sim.utime();
   const int64_t end_utime = duration > 0 ? params->start_utime + static_cast<int64_t>(std::llround(duration * 1e6)) : 0;
   simulator::SimOutputs out;
-  std::vector<uint8_t> rx;
   int64_t send_errors = 0, overruns = 0;
-
-  auto serviceControl = [&](simulator::UdpSocket& sock) {
-    sockaddr_in from{};
-    for (int k = 0; k < 64; ++k) {
-      const long n = sock.receive(rx, &from);
-      if (n <= 0) break;
-      if (auto reply = sim.control().handle(rx.data(), rx.size())) {
-        if (!sock.sendTo(reply->data(), reply->size(), from)) ++send_errors;
-      }
-    }
-  };
 
   runtime::logLine(kName, "info", "running at " + std::to_string(rate) + "x real time; points -> " +
                                       params->net.host_ip + ":" + std::to_string(params->net.host_point_port) +
                                       ", IMU -> :" + std::to_string(params->net.host_imu_port));
   const int rc = rt->spin(1, [&] {
-    serviceControl(discovery);
-    serviceControl(command);
+    send_errors += sensors.serviceControl(
+        [&](std::size_t i, const uint8_t* data, std::size_t size, bool* broadcast) {
+          return sim.control(i).handle(data, size, broadcast);
+        });
     const double wall_s = std::chrono::duration<double>(Clock::now() - wall0).count();
     int64_t target = sim0 + static_cast<int64_t>(wall_s * rate * 1e6);
     // Fell far behind (CPU starved, stopped in a debugger): slow down instead of bursting
@@ -157,9 +155,9 @@ int main(int argc, char** argv) {
     out.clear();
     sim.advanceTo(target, out);
     for (const auto& d : out.point_packets)
-      if (!point_out.sendTo(d.bytes.data(), d.bytes.size(), d.ip, d.port)) ++send_errors;
+      if (!sensors.send(d.sensor, false, d.bytes.data(), d.bytes.size(), d.ip, d.port)) ++send_errors;
     for (const auto& d : out.imu_packets)
-      if (!imu_out.sendTo(d.bytes.data(), d.bytes.size(), d.ip, d.port)) ++send_errors;
+      if (!sensors.send(d.sensor, true, d.bytes.data(), d.bytes.size(), d.ip, d.port)) ++send_errors;
     for (const auto& p : out.poses) rt->publish(channels::kRobotPose, p);
     for (const auto& g : out.ground_truth) rt->publish(channels::kSimGroundTruth, g);
 

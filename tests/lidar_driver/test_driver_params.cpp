@@ -31,17 +31,42 @@ std::string errorsOf(const std::string& yaml) {
 }
 }  // namespace
 
-TEST(DriverParams, GivenTheShippedConfigThenEveryKeyLoads) {
+TEST(DriverParams, GivenTheShippedConfigThenEveryKeyLoadsAndEqualsTheDefaults) {
   const std::string text = shippedConfig();
   ASSERT_FALSE(text.empty()) << "deploy/config/lidar_driver.yaml not found";
   std::vector<ucon::ConfigError> errors;
   auto p = ucon::loadParams<DriverParams>(text, "lidar_driver.yaml", &errors);
   ASSERT_TRUE(p.has_value()) << (errors.empty() ? "" : errors[0].toString());
-  EXPECT_EQ(p->frame.rate_hz, 50);
-  EXPECT_EQ(p->network.host_point_port, 56301);
-  EXPECT_EQ(p->network.host_imu_port, 56401);
-  EXPECT_EQ(p->network.sensor_command_port, 56100);
-  EXPECT_DOUBLE_EQ(p->extrinsic.rpy_deg[0], 180.0);
+  const DriverParams d;  // one source of truth: the shipped file equals the in-class defaults
+  EXPECT_EQ(p->network.host_ip, d.network.host_ip);
+  EXPECT_EQ(p->network.discovery, d.network.discovery);
+  EXPECT_EQ(p->network.discovery_address, d.network.discovery_address);
+  EXPECT_EQ(p->network.discovery_port, 56000);
+  EXPECT_EQ(p->network.host_point_port, d.network.host_point_port);
+  EXPECT_EQ(p->network.host_imu_port, d.network.host_imu_port);
+  EXPECT_EQ(p->network.host_push_port, d.network.host_push_port);
+  EXPECT_EQ(p->network.sensor_command_port, d.network.sensor_command_port);
+  EXPECT_EQ(p->network.socket_buffer_bytes, d.network.socket_buffer_bytes);
+  EXPECT_EQ(p->control.timeout_s, d.control.timeout_s);
+  EXPECT_EQ(p->control.retry_interval_s, d.control.retry_interval_s);
+  EXPECT_EQ(p->control.work_mode, d.control.work_mode);
+  EXPECT_EQ(p->control.point_data_type, d.control.point_data_type);
+  EXPECT_EQ(p->control.reset_install_attitude, d.control.reset_install_attitude);
+  EXPECT_EQ(p->control.reconfigure_after_s, d.control.reconfigure_after_s);
+  EXPECT_EQ(p->frame.rate_hz, d.frame.rate_hz);
+  EXPECT_EQ(p->frame.max_points, d.frame.max_points);
+  EXPECT_EQ(p->frame.idle_flush_s, d.frame.idle_flush_s);
+  EXPECT_EQ(p->frame.merge_wait_s, d.frame.merge_wait_s);
+  EXPECT_EQ(p->frame.apply_extrinsic, d.frame.apply_extrinsic);
+  EXPECT_EQ(p->filter.min_range_m, d.filter.min_range_m);
+  EXPECT_EQ(p->filter.max_range_m, d.filter.max_range_m);
+  EXPECT_EQ(p->filter.drop_rain_fog_dust_level, d.filter.drop_rain_fog_dust_level);
+  EXPECT_EQ(p->status_period_s, d.status_period_s);
+  ASSERT_EQ(p->sensors.size(), 1u);
+  EXPECT_EQ(p->sensors[0].ip, "127.0.0.1");
+  EXPECT_DOUBLE_EQ(p->sensors[0].rpy_deg[0], 180.0);  // the simulator's upside-down mount
+  EXPECT_DOUBLE_EQ(p->sensors[0].xyz[2], 0.5);
+  EXPECT_TRUE(p->sensors[0].imu);
   EXPECT_TRUE(p->control.enabled);
 }
 
@@ -54,11 +79,34 @@ TEST(DriverParams, GivenBadValuesThenTheErrorNamesTheKey) {
             std::string::npos);
   EXPECT_NE(errorsOf(replace(good, "max_range_m: 70.0", "max_range_m: 0.05")).find("filter.max_range_m"),
             std::string::npos);
-  EXPECT_NE(errorsOf(replace(good, "work_mode: normal", "work_mode: turbo")).find("control.work_mode"),
+  // 0x03 ("sleep") is not a Mid-360 work mode: only sampling and idle are accepted.
+  EXPECT_NE(errorsOf(replace(good, "work_mode: sampling", "work_mode: sleep")).find("control.work_mode"),
             std::string::npos);
-  EXPECT_NE(errorsOf(replace(good, "tag_drop_mask: 0", "tag_drop_mask: 0\n  tag_mask: 1")).find("filter.tag_mask"),
+  EXPECT_NE(errorsOf(replace(good, "drop_other_noise_level: 0", "drop_other_noise_level: 4")).find(
+                "filter.drop_other_noise_level"),
             std::string::npos);
-  EXPECT_NE(errorsOf(replace(good, "  timeout_s: 5.0", "")).find("control.timeout_s"), std::string::npos);
-  EXPECT_NE(errorsOf(replace(good, "sensor_ip: \"127.0.0.1\"", "sensor_ip: \"0.0.0.0\"")).find("network.sensor_ip"),
+  EXPECT_NE(errorsOf(replace(good, "  timeout_s: 0.0", "")).find("control.timeout_s"), std::string::npos);
+  EXPECT_NE(errorsOf(replace(good, "- ip: \"127.0.0.1\"", "- ip: \"0.0.0.0\"")).find("sensors[0].ip"),
+            std::string::npos);
+  EXPECT_NE(errorsOf(replace(good, "    imu: true", "    imu: true\n    name: x")).find("sensors[0].name"),
+            std::string::npos);
+  // Two sensors: both with the IMU, or the same address, are refused.
+  const std::string second = "  - ip: \"127.0.0.2\"\n    xyz: [0, 0, 0]\n    rpy_deg: [0, 0, 0]\n    imu: true\n";
+  EXPECT_NE(errorsOf(replace(good, "status_period_s:", second + "status_period_s:")).find("imu: true on more"),
+            std::string::npos);
+  const std::string same = "  - ip: \"127.0.0.1\"\n    xyz: [0, 0, 0]\n    rpy_deg: [0, 0, 0]\n    imu: false\n";
+  EXPECT_NE(errorsOf(replace(good, "status_period_s:", same + "status_period_s:")).find("listed twice"),
+            std::string::npos);
+  EXPECT_NE(errorsOf(replace(good, "\nsensors:", "\nsensors: []\nx:")).find("list 1 to 8"), std::string::npos);
+}
+
+TEST(DriverParams, GivenAnAutoSensorThenItNeedsDiscoveryAndStandsAlone) {
+  const std::string good = shippedConfig();
+  std::vector<ucon::ConfigError> errors;
+  auto p = ucon::loadParams<DriverParams>(replace(good, "- ip: \"127.0.0.1\"", "- ip: auto"), "", &errors);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_TRUE(p->sensors[0].isAuto());
+  EXPECT_NE(errorsOf(replace(replace(good, "- ip: \"127.0.0.1\"", "- ip: auto"), "discovery: true", "discovery: false"))
+                .find("needs network.discovery"),
             std::string::npos);
 }

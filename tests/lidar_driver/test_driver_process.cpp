@@ -32,21 +32,26 @@ namespace {
 std::string configText(int base_port, double timeout_s) {
   std::ostringstream y;
   y << "network:\n"
-    << "  host_ip: \"127.0.0.1\"\n  sensor_ip: \"127.0.0.1\"\n  discovery: false\n"
+    << "  host_ip: \"127.0.0.1\"\n  discovery: false\n"
     << "  discovery_address: \"127.0.0.1\"\n"
-    << "  sensor_discovery_port: " << base_port + 0 << "\n"
+    << "  discovery_port: " << base_port + 0 << "\n"
     << "  sensor_command_port: " << base_port + 1 << "\n"
+    << "  sensor_push_port: " << base_port + 7 << "\n"
     << "  sensor_point_port: " << base_port + 2 << "\n"
     << "  sensor_imu_port: " << base_port + 3 << "\n"
     << "  host_command_port: " << base_port + 4 << "\n"
+    << "  host_push_port: " << base_port + 8 << "\n"
     << "  host_point_port: " << base_port + 5 << "\n"
     << "  host_imu_port: " << base_port + 6 << "\n"
     << "  socket_buffer_bytes: 2097152\n"
     << "control:\n  enabled: true\n  timeout_s: " << timeout_s << "\n  retry_interval_s: 0.2\n"
-    << "  work_mode: normal\n  imu_enabled: true\n"
-    << "frame:\n  rate_hz: 50\n  max_points: 200000\n  idle_flush_s: 0.2\n"
-    << "extrinsic:\n  apply: false\n  xyz: [0, 0, 0]\n  rpy_deg: [0, 0, 0]\n"
-    << "filter:\n  min_range_m: 0.1\n  max_range_m: 70\n  tag_drop_mask: 0\n"
+    << "  work_mode: sampling\n  point_data_type: 1\n  reset_install_attitude: true\n"
+    << "  reconfigure_after_s: 30\n"
+    << "frame:\n  rate_hz: 50\n  max_points: 200000\n  idle_flush_s: 0.2\n  apply_extrinsic: false\n"
+    << "  merge_wait_s: 0.05\n"
+    << "filter:\n  min_range_m: 0.1\n  max_range_m: 70\n  drop_sticking_level: 0\n"
+    << "  drop_rain_fog_dust_level: 0\n  drop_other_noise_level: 0\n"
+    << "sensors:\n  - ip: \"127.0.0.1\"\n    xyz: [0, 0, 0]\n    rpy_deg: [0, 0, 0]\n    imu: true\n"
     << "status_period_s: 0.2\n";
   return y.str();
 }
@@ -113,7 +118,7 @@ TEST(LidarDriverProcess, GivenNoSensorAnsweringThenItExitsNonZeroWithinTheTimeou
   EXPECT_EQ(code, 1) << out;
   EXPECT_LT(elapsed, 3.0) << "timeout_s is 1.0";
   EXPECT_NE(out.find("error"), std::string::npos) << out;
-  EXPECT_NE(out.find("no Mid-360 answered"), std::string::npos) << out;
+  EXPECT_NE(out.find("not every Mid-360 is configured"), std::string::npos) << out;
   EXPECT_NE(out.find("127.0.0.1:27001"), std::string::npos) << out;
   EXPECT_NE(out.find("ucon-simulator"), std::string::npos) << out;
 }
@@ -170,9 +175,10 @@ TEST(LidarDriverProcess, GivenAFakeSensorThenItIsConfiguredAndItsPacketsBecomeFr
   auto data = ld::UdpSocket::open("127.0.0.1", base + 2, 0, &err, &warn);
   ASSERT_TRUE(data) << err;
   std::atomic<int> host_point_port{0};
+  std::atomic<bool> work_mode_set{false};
   std::atomic<bool> stop{false};
   std::thread sensor([&] {
-    while (!stop && host_point_port == 0) {
+    while (!stop) {
       const int n = cmd->receiveBatch();
       for (int i = 0; i < n; ++i) {
         livox::ControlFrame f;
@@ -183,6 +189,7 @@ TEST(LidarDriverProcess, GivenAFakeSensorThenItIsConfiguredAndItsPacketsBecomeFr
           if (kv.key == static_cast<uint16_t>(livox::Key::kPointDataHostIpConfig)) {
             host_point_port = livox::parseHostIpConfig(kv)->host_port;
           }
+          if (kv.key == static_cast<uint16_t>(livox::Key::kWorkMode)) work_mode_set = true;
         }
         const auto ack = livox::encodeControlFrame(livox::makeSetKeyValueAck(f.seq, {}));
         cmd->sendTo(cmd->sourceIp(i), cmd->sourcePort(i), ack.data(), ack.size());
@@ -195,10 +202,9 @@ TEST(LidarDriverProcess, GivenAFakeSensorThenItIsConfiguredAndItsPacketsBecomeFr
   const std::string log = ::testing::TempDir() + "ld_fake.log";
   const pid_t pid = spawnDriver(cfg, url, log);
   ASSERT_GT(pid, 0);
-  for (int i = 0; i < 300 && host_point_port == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  stop = true;
-  sensor.join();
+  for (int i = 0; i < 300 && !work_mode_set; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   ASSERT_EQ(host_point_port, base + 5) << readFile(log);
+  ASSERT_TRUE(work_mode_set) << readFile(log);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));  // driver enters its data loop
 
   // 0.2 s of sensor time at 200 000 points/s from t = 50 s (a frame boundary): 10 frames of
@@ -226,6 +232,8 @@ TEST(LidarDriverProcess, GivenAFakeSensorThenItIsConfiguredAndItsPacketsBecomeFr
   kill(pid, SIGTERM);
   double elapsed = 0;
   const int code = waitFor(pid, 5.0, &elapsed);
+  stop = true;
+  sensor.join();
   const std::string out = readFile(log);
   EXPECT_EQ(code, 0) << out;
   EXPECT_NE(out.find("configured"), std::string::npos) << out;

@@ -128,19 +128,21 @@ TEST(LidarDriverNode, GivenADuplicatedPacketThenItIsCountedOutOfOrderAndItsPoint
 }
 
 TEST(LidarDriverNode, GivenMalformedPacketsThenEachIsCountedAndDroppedAndTheStreamContinues) {
-  auto pkts = makeStream(4, 5'000'000'000ull, 5000);
+  // Nine good packets first: the sensor's crc32 is then known to be filled in (kCrcTrustAfter),
+  // so a packet whose crc32 no longer matches is corrupt and dropped.
+  auto pkts = makeStream(12, 5'000'000'000ull, 5000);
   std::vector<std::vector<uint8_t>> bad;
   bad.push_back({});                                   // empty
   bad.push_back(std::vector<uint8_t>(20, 0xAB));       // truncated header
   auto b = pkts[1]; b[0] = 3; bad.push_back(b);        // version
   b = pkts[1]; b.pop_back(); bad.push_back(b);         // length
   b = pkts[1]; b[10] = 9; bad.push_back(b);            // data type
-  b = pkts[1]; b[100] ^= 0x20; bad.push_back(b);       // crc
-  std::vector<std::vector<uint8_t>> stream = {pkts[0]};
+  b = pkts[9]; b[100] ^= 0x20; bad.push_back(b);       // crc
+  std::vector<std::vector<uint8_t>> stream(pkts.begin(), pkts.begin() + 9);
   for (auto& x : bad) stream.push_back(x);
-  stream.push_back(pkts[1]);
-  stream.push_back(pkts[2]);
-  stream.push_back(pkts[3]);
+  stream.push_back(pkts[9]);
+  stream.push_back(pkts[10]);
+  stream.push_back(pkts[11]);
   LidarDriverNode node(plainParams());
   DriverOutputs out;
   int non_ok = 0;
@@ -156,36 +158,45 @@ TEST(LidarDriverNode, GivenMalformedPacketsThenEachIsCountedAndDroppedAndTheStre
   const auto& c = node.counters();
   EXPECT_EQ(c.crc_errors, 1);
   EXPECT_EQ(c.malformed, 6);  // 5 above + the oversize datagram
-  EXPECT_EQ(c.datagrams, 11);
+  EXPECT_EQ(c.datagrams, 19);
   EXPECT_EQ(c.by_status[static_cast<int>(livox::ParseStatus::kTruncatedHeader)], 2);
   EXPECT_EQ(c.by_status[static_cast<int>(livox::ParseStatus::kBadLength)], 2);
   EXPECT_EQ(c.by_status[static_cast<int>(livox::ParseStatus::kBadVersion)], 1);
   EXPECT_EQ(c.by_status[static_cast<int>(livox::ParseStatus::kUnknownDataType)], 1);
-  EXPECT_EQ(c.point_packets, 4);
+  EXPECT_EQ(c.point_packets, 12);
   auto last = node.flush();
   ASSERT_TRUE(last);
-  EXPECT_EQ(last->num_points, 4 * 96);
+  EXPECT_EQ(last->num_points, 12 * 96);
   EXPECT_EQ(c.lost_packets, 0);
   // The status carries the counters under their documented names.
   ucon::StatusReport rep("lidar_driver");
   node.report(rep);
   EXPECT_EQ(rep.counter("crc_errors"), 1);
   EXPECT_EQ(rep.counter("malformed"), 6);
-  EXPECT_EQ(rep.counter("packets"), 4);
+  EXPECT_EQ(rep.counter("packets"), 12);
   EXPECT_EQ(rep.counter("invalid_bad_version"), 1);
 }
 
 TEST(LidarDriverNode, GivenAnUpsideDownMountThenTheExtrinsicMapsSensorPointsIntoTheBaseFrame) {
   DriverParams p = plainParams();
-  p.extrinsic.apply = true;
-  p.extrinsic.xyz = {0.1, 0.0, 0.45};
-  p.extrinsic.rpy_deg = {180.0, 0.0, 90.0};  // upside down, then turned left by 90 deg
+  p.frame.apply_extrinsic = true;
+  p.sensors[0].xyz = {0.1, 0.0, 0.45};
+  p.sensors[0].rpy_deg = {180.0, 0.0, 90.0};  // upside down, then turned left by 90 deg
   const auto pkts = makeStream(1, 1'000'000'000ull, 5000);
   LidarDriverNode node(p);
   const auto clouds = feed(node, pkts, true);
   ASSERT_EQ(clouds.size(), 1u);
   const auto& c = clouds[0];
   EXPECT_EQ(c.frame_id, "base");
+  // The sensor origin travels with the cloud: one sensor, no per-point index.
+  ASSERT_EQ(c.num_sensors, 1);
+  EXPECT_EQ(c.sensor_ids[0], int64_t{0x7F000001});
+  EXPECT_EQ(c.sensor_id, int64_t{0x7F000001});
+  EXPECT_FLOAT_EQ(c.origin_x[0], 0.1f);
+  EXPECT_FLOAT_EQ(c.origin_y[0], 0.0f);
+  EXPECT_FLOAT_EQ(c.origin_z[0], 0.45f);
+  EXPECT_EQ(c.num_point_sensors, 0);
+  EXPECT_TRUE(c.point_sensor.empty());
   // Rx(180): (x, y, z) -> (x, -y, -z); Rz(90): (a, b, c) -> (-b, a, c); then + xyz.
   for (int j = 0; j < c.num_points; ++j) {
     const double x = 1.0 + (j % 10), y = 0.5, z = -0.25;
@@ -195,13 +206,22 @@ TEST(LidarDriverNode, GivenAnUpsideDownMountThenTheExtrinsicMapsSensorPointsInto
   }
 }
 
-TEST(LidarDriverNode, GivenRangeAndTagFiltersThenFilteredPointsAreDroppedAndCounted) {
+TEST(LidarDriverNode, GivenRangeAndTagConfidenceFiltersThenFilteredPointsAreDroppedAndCounted) {
   DriverParams p = plainParams();
   p.filter.min_range_m = 2.5;   // drops x = 1, 2 (range ~1.15, ~2.07)
   p.filter.max_range_m = 8.5;   // drops x = 9, 10
-  p.filter.tag_drop_mask = 0x01;
+  p.filter.drop_rain_fog_dust_level = 2;
+  p.filter.drop_other_noise_level = 3;
+  using livox::MidTag;
   std::vector<livox::LidarPoint> pts;
-  for (int i = 0; i < 10; ++i) pts.push_back({1.0f + i, 0.5f, -0.25f, 0, static_cast<uint8_t>(i == 4 ? 0x01 : 0x04)});
+  for (int i = 0; i < 10; ++i) {
+    uint8_t tag = MidTag::make(1, 0, 0);  // sticking 1: kept (its level is 0)
+    if (i == 4) tag = MidTag::make(0, 2, 0);  // rain/fog/dust 2: dropped
+    if (i == 5) tag = MidTag::make(0, 1, 0);  // rain/fog/dust 1: below the level, kept
+    if (i == 6) tag = MidTag::make(0, 0, 3);  // other noise 3: dropped
+    if (i == 7) tag = MidTag::make(0, 3, 2) | 0xC0;  // reserved bits ignored; rain 3: dropped
+    pts.push_back({1.0f + i, 0.5f, -0.25f, 0, tag});
+  }
   pts.push_back({0, 0, 0, 0, 0});  // "no return"
   livox::PacketInfo info;
   info.timestamp_ns = 1'000'000'000ull;
@@ -212,18 +232,25 @@ TEST(LidarDriverNode, GivenRangeAndTagFiltersThenFilteredPointsAreDroppedAndCoun
   node.onDatagram(b.data(), b.size(), out);
   auto c = node.flush();
   ASSERT_TRUE(c);
-  // Kept: x = 3, 4, 6, 7, 8 (x = 5 has tag 0x01).
-  ASSERT_EQ(c->num_points, 5);
-  const float expect_x[5] = {3, 4, 6, 7, 8};
-  for (int j = 0; j < 5; ++j) EXPECT_NEAR(c->x[j], expect_x[j], 1e-6);
+  // Kept: x = 3, 4, 6 (x = 5, 7, 8 flagged at or above their level).
+  ASSERT_EQ(c->num_points, 3);
+  const float expect_x[3] = {3, 4, 6};
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(c->x[j], expect_x[j], 1e-6);
   EXPECT_EQ(node.counters().points_range_filtered, 5);
-  EXPECT_EQ(node.counters().points_tag_filtered, 1);
+  EXPECT_EQ(node.counters().points_tag_filtered, 3);
+  // Level 1 drops every flagged point.
+  p.filter.drop_rain_fog_dust_level = 0;
+  p.filter.drop_other_noise_level = 0;
+  p.filter.drop_sticking_level = 1;
+  LidarDriverNode strict(p);
+  strict.onDatagram(b.data(), b.size(), out);
+  EXPECT_EQ(strict.counters().points_tag_filtered, 2);  // x = 3, 4 (sticking 1); 9, 10 out of range
 }
 
 TEST(LidarDriverNode, GivenAnImuPacketThenImuIsPublishedInSiUnitsAndRotatedWithTheExtrinsic) {
   DriverParams p = plainParams();
-  p.extrinsic.apply = true;
-  p.extrinsic.rpy_deg = {180.0, 0.0, 0.0};
+  p.frame.apply_extrinsic = true;
+  p.sensors[0].rpy_deg = {180.0, 0.0, 0.0};
   LidarDriverNode node(p);
   livox::PacketInfo info;
   info.timestamp_ns = 7'000'123'456ull;
@@ -302,4 +329,179 @@ TEST(LidarDriverNode, GivenASensorRebootWithSynchronisedTimeThenRestartedCounter
   EXPECT_EQ(node.counters().lost_packets, 0);
   EXPECT_EQ(node.counters().points_published, 100 * 96);
   EXPECT_EQ(node.counters().time_resets, 0);
+}
+
+TEST(LidarDriverNode, GivenTheCrc32FieldThenZeroIsNeverCheckedAndAMismatchDropsOnlyOnceTheFieldIsTrusted) {
+  auto pkts = makeStream(40, 6'000'000'000ull, 5000);
+  const auto corrupt = [](std::vector<uint8_t> b) {
+    b[24] ^= 0x5A;  // a non-zero crc32 that does not match
+    return b;
+  };
+  const auto zero = [](std::vector<uint8_t> b) {
+    for (int i = 24; i < 28; ++i) b[static_cast<std::size_t>(i)] = 0;
+    return b;
+  };
+  LidarDriverNode node(plainParams());
+  DriverOutputs out;
+  // A firmware that leaves the field 0: nothing is lost.
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(node.onDatagram(zero(pkts[k]).data(), pkts[k].size(), out), livox::ParseStatus::kOk);
+  EXPECT_EQ(node.counters().crc_absent, 10);
+  // Mismatches before the field has ever matched: kept (the sensor may fill it differently).
+  for (int k = 10; k < 13; ++k) {
+    const auto b = corrupt(pkts[k]);
+    EXPECT_EQ(node.onDatagram(b.data(), b.size(), out), livox::ParseStatus::kOk);
+  }
+  EXPECT_EQ(node.counters().crc_mismatches_kept, 3);
+  EXPECT_EQ(node.counters().crc_errors, 0);
+  // kCrcTrustAfter matches in a row: from now on a mismatch is a corrupt packet, dropped alone.
+  for (int k = 13; k < 13 + kCrcTrustAfter; ++k) node.onDatagram(pkts[k].data(), pkts[k].size(), out);
+  const auto bad = corrupt(pkts[21]);
+  EXPECT_EQ(node.onDatagram(bad.data(), bad.size(), out), livox::ParseStatus::kBadCrc);
+  EXPECT_EQ(node.counters().crc_errors, 1);
+  EXPECT_EQ(node.onDatagram(pkts[22].data(), pkts[22].size(), out), livox::ParseStatus::kOk);
+  EXPECT_EQ(node.counters().lost_packets, 1) << "the dropped packet is a gap in udp_cnt";
+  // kCrcTrustAfter mismatches in a row: the sensor changed how it fills the field; keep again.
+  int dropped = 0;
+  for (int k = 23; k < 23 + kCrcTrustAfter + 2; ++k) {
+    const auto b = corrupt(pkts[k]);
+    if (node.onDatagram(b.data(), b.size(), out) == livox::ParseStatus::kBadCrc) ++dropped;
+  }
+  EXPECT_EQ(dropped, kCrcTrustAfter - 1);
+  EXPECT_EQ(node.counters().crc_mismatches_kept, 3 + 3);
+}
+
+namespace {
+// Two sensors: 0 at the front (ip 127.0.0.1), 1 at the back turned around (127.0.0.2).
+DriverParams twoSensors() {
+  DriverParams p = plainParams();
+  p.frame.apply_extrinsic = true;
+  p.sensors.resize(2);
+  p.sensors[0].ip = "127.0.0.1";
+  p.sensors[0].xyz = {0.2, 0.0, 0.4};
+  p.sensors[0].rpy_deg = {0.0, 0.0, 0.0};
+  p.sensors[1].ip = "127.0.0.2";
+  p.sensors[1].xyz = {-0.2, 0.0, 0.3};
+  p.sensors[1].rpy_deg = {0.0, 0.0, 180.0};
+  p.sensors[1].imu = false;
+  return p;
+}
+}  // namespace
+
+TEST(LidarDriverNode, GivenTwoSensorsThenEachPeriodIsOneFrameInTheBodyFrameWithEachPointsSensor) {
+  LidarDriverNode node(twoSensors());
+  const auto a = makeStream(120, 10'000'000'000ull, 5000);
+  const auto b = makeStream(120, 10'000'000'000ull, 5000);
+  std::vector<ucon::point_cloud_t> clouds;
+  DriverOutputs out;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    // Sensor 1's packets arrive a little later than sensor 0's (3 packets = 1.4 ms).
+    node.onDatagram(0, a[k].data(), a[k].size(), 0, out);
+    for (auto& c : out.clouds) clouds.push_back(std::move(c));
+    if (k >= 3) {
+      node.onDatagram(1, b[k - 3].data(), b[k - 3].size(), 0, out);
+      for (auto& c : out.clouds) clouds.push_back(std::move(c));
+    }
+  }
+  for (std::size_t k = a.size() - 3; k < b.size(); ++k) {
+    node.onDatagram(1, b[k].data(), b[k].size(), 0, out);
+    for (auto& c : out.clouds) clouds.push_back(std::move(c));
+  }
+  for (auto& c : node.flushAll()) clouds.push_back(std::move(c));
+  // 120 packets x 0.48 ms = 57.6 ms: frames [10.00, 10.02), [10.02, 10.04), [10.04, 10.0576).
+  ASSERT_EQ(clouds.size(), 3u);
+  EXPECT_EQ(node.counters().points_late, 0);
+  int64_t total = 0;
+  for (const auto& c : clouds) {
+    EXPECT_EQ(c.frame_id, "base");
+    EXPECT_EQ(c.sensor_id, 0) << "several sensors: see sensor_ids";
+    ASSERT_EQ(c.num_sensors, 2);
+    EXPECT_EQ(c.sensor_ids[1], int64_t{0x7F000002});
+    EXPECT_FLOAT_EQ(c.origin_x[0], 0.2f);
+    EXPECT_FLOAT_EQ(c.origin_x[1], -0.2f);
+    EXPECT_FLOAT_EQ(c.origin_z[1], 0.3f);
+    ASSERT_EQ(c.num_point_sensors, c.num_points);
+    int from0 = 0, from1 = 0;
+    for (int j = 0; j < c.num_points; ++j) {
+      const int s = c.point_sensor[j];
+      // Sensor point (x, 0.5, -0.25), x in 1..10: sensor 0 maps it ahead, sensor 1 behind.
+      if (s == 0) {
+        ++from0;
+        EXPECT_GT(c.x[j], 1.0f);
+        EXPECT_NEAR(c.z[j], 0.15f, 1e-5f);
+      } else {
+        ++from1;
+        EXPECT_LT(c.x[j], -1.0f);
+        EXPECT_NEAR(c.y[j], -0.5f, 1e-5f);
+        EXPECT_NEAR(c.z[j], 0.05f, 1e-5f);
+      }
+      EXPECT_GE(c.t_offset_ns[j], 0);
+      EXPECT_EQ((c.utime * 1000 + c.t_offset_ns[j]) / 20'000'000, c.utime * 1000 / 20'000'000);
+    }
+    EXPECT_EQ(from0, from1) << "both sensors' points of the period are in the frame";
+    total += c.num_points;
+  }
+  EXPECT_EQ(total, 2 * 120 * 96);
+  EXPECT_EQ(clouds[0].num_points, 2 * 4000);
+  EXPECT_EQ(clouds[1].num_points, 2 * 4000);
+}
+
+TEST(LidarDriverNode, GivenASensorThatStopsThenFramesGoOnWithoutItAfterTheMergeWait) {
+  DriverParams p = twoSensors();
+  p.frame.merge_wait_s = 0.05;
+  LidarDriverNode node(p);
+  const auto a = makeStream(400, 20'000'000'000ull, 5000);  // 192 ms
+  const auto b = makeStream(30, 20'000'000'000ull, 5000);   // 14.4 ms, then silent
+  std::vector<ucon::point_cloud_t> clouds;
+  DriverOutputs out;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (k < b.size()) node.onDatagram(1, b[k].data(), b[k].size(), 0, out);
+    for (auto& c : out.clouds) clouds.push_back(std::move(c));
+    node.onDatagram(0, a[k].data(), a[k].size(), 0, out);
+    for (auto& c : out.clouds) clouds.push_back(std::move(c));
+  }
+  // Without sensor 1 the frames wait 50 ms of sensor 0's time, then go: by 192 ms at least the
+  // frames ending before 192 - 50 ms are out.
+  ASSERT_GE(clouds.size(), 7u);
+  EXPECT_EQ(clouds[0].num_points, 4000 + 30 * 96);
+  EXPECT_EQ(clouds[1].num_points, 4000);
+}
+
+TEST(LidarDriverNode, GivenHostReceiveTimesThenTheClockOffsetIsEstimatedAndUnsyncedClocksAreAligned) {
+  LidarDriverNode node(twoSensors());
+  // Sensor 0: time since power-on 100 s; sensor 1: powered 7 s earlier (107 s). The host
+  // clock reads 1.7e9 s; packets arrive 0.3 ms after they are sent (plus jitter).
+  const int64_t host0 = 1'700'000'000'000'000'000;
+  const auto a = makeStream(300, 100'000'000'000ull, 5000, 96, 1000, livox::TimeType::kNone);
+  const auto b = makeStream(300, 107'000'000'000ull, 5000, 96, 1000, livox::TimeType::kNone);
+  std::vector<ucon::point_cloud_t> clouds;
+  DriverOutputs out;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const int64_t sent = static_cast<int64_t>(k) * 480'000 + 480'000;  // after the last point
+    const int64_t jitter = (k * 7919) % 5 * 100'000;
+    node.onDatagram(0, a[k].data(), a[k].size(), host0 + sent + 300'000 + jitter, out);
+    for (auto& c : out.clouds) clouds.push_back(std::move(c));
+    node.onDatagram(1, b[k].data(), b[k].size(), host0 + sent + 300'000 + (jitter ^ 100'000), out);
+    for (auto& c : out.clouds) clouds.push_back(std::move(c));
+  }
+  const auto& s0 = node.stream(0);
+  ASSERT_TRUE(s0.offset_valid);
+  EXPECT_NEAR(static_cast<double>(s0.host_minus_sensor_ns), static_cast<double>(host0 - 100'000'000'000 + 300'000), 1e5);
+  EXPECT_EQ(s0.time_sync, ucon::point_cloud_t::TIME_NONE);
+  // Sensor 1's times are moved onto sensor 0's clock: -7 s, within the delay jitter.
+  EXPECT_NEAR(static_cast<double>(node.stream(1).correction_ns), -7e9, 2e5);
+  ASSERT_GE(clouds.size(), 5u);
+  for (std::size_t i = 1; i < clouds.size(); ++i) {
+    int from1 = 0;
+    for (int j = 0; j < clouds[i].num_points; ++j) from1 += clouds[i].point_sensor[j];
+    EXPECT_GT(from1, 3000) << "frame " << i << " holds sensor 1's points of the same period";
+    EXPECT_LT(clouds[i].utime, 101'000'000);
+  }
+  ucon::StatusReport rep("lidar_driver");
+  node.report(rep);
+  const auto msg = rep.build(1, 1);
+  double corr_ms = 0.0;
+  for (int i = 0; i < msg.num_values; ++i) {
+    if (msg.value_names[i] == "clock_correction_ms_s1") corr_ms = msg.values[i];
+  }
+  EXPECT_NEAR(corr_ms, -7000.0, 0.2);
 }

@@ -33,7 +33,7 @@ TEST(LivoxControl, GivenASetKeyValueRequestThenItRoundTripsThroughBytes) {
   HostIpConfig imu{{127, 0, 0, 1}, 57002, 56400};
   const std::vector<KeyValue> kvs = {makeHostIpConfig(Key::kPointDataHostIpConfig, pts),
                                      makeHostIpConfig(Key::kImuDataHostIpConfig, imu),
-                                     makeWorkMode(WorkMode::kNormal)};
+                                     makeWorkMode(WorkMode::kSampling)};
   const ControlFrame req = makeSetKeyValueRequest(77, kvs);
   const std::vector<uint8_t> bytes = encodeControlFrame(req);
   // 24 header + 4 list header + (4+8) + (4+8) + (4+1)
@@ -83,7 +83,7 @@ TEST(LivoxControl, GivenAcksThenTheyMatchTheirRequestAndCarryTheirFields) {
   EXPECT_EQ(got->dev_type, kDeviceTypeMid360);
   EXPECT_EQ(got->ret_code, 0);
 
-  const ControlFrame set_req = makeSetKeyValueRequest(9, {makeWorkMode(WorkMode::kNormal)});
+  const ControlFrame set_req = makeSetKeyValueRequest(9, {makeWorkMode(WorkMode::kSampling)});
   bytes = encodeControlFrame(makeSetKeyValueAck(9, SetKeyValueAck{1, 0x001A}));
   ASSERT_EQ(decodeControlFrame(bytes, ack), ControlStatus::kOk);
   EXPECT_TRUE(isAckOf(ack, set_req));
@@ -96,7 +96,7 @@ TEST(LivoxControl, GivenAcksThenTheyMatchTheirRequestAndCarryTheirFields) {
 
 TEST(LivoxControl, GivenCorruptedFramesThenEachIsRejectedWithItsStatus) {
   const std::vector<uint8_t> good =
-      encodeControlFrame(makeSetKeyValueRequest(3, {makeWorkMode(WorkMode::kNormal)}));
+      encodeControlFrame(makeSetKeyValueRequest(3, {makeWorkMode(WorkMode::kSampling)}));
   ControlFrame out;
   ASSERT_EQ(decodeControlFrame(good, out), ControlStatus::kOk);
   struct Case {
@@ -121,7 +121,7 @@ TEST(LivoxControl, GivenCorruptedFramesThenEachIsRejectedWithItsStatus) {
 }
 
 TEST(LivoxControl, GivenMalformedKeyValueListsThenTheyAreRejected) {
-  const std::vector<uint8_t> good = encodeKeyValueList({makeWorkMode(WorkMode::kSleep)});
+  const std::vector<uint8_t> good = encodeKeyValueList({makeWorkMode(WorkMode::kIdle)});
   ASSERT_TRUE(decodeKeyValueList(good));
   auto b = good; b.pop_back();
   EXPECT_FALSE(decodeKeyValueList(b)) << "value cut short";
@@ -130,7 +130,7 @@ TEST(LivoxControl, GivenMalformedKeyValueListsThenTheyAreRejected) {
   b = good; b[0] = 5;
   EXPECT_FALSE(decodeKeyValueList(b)) << "count larger than entries";
   EXPECT_FALSE(decodeKeyValueList({1, 0}));
-  EXPECT_FALSE(parseHostIpConfig(makeWorkMode(WorkMode::kNormal)));
+  EXPECT_FALSE(parseHostIpConfig(makeWorkMode(WorkMode::kSampling)));
 }
 
 TEST(LivoxControl, GivenIpv4TextThenItParsesOrIsRejected) {
@@ -140,4 +140,52 @@ TEST(LivoxControl, GivenIpv4TextThenItParsesOrIsRejected) {
     EXPECT_FALSE(parseIpv4(bad)) << bad;
   }
   EXPECT_EQ(formatIpv4({192, 168, 1, 3}), "192.168.1.3");
+}
+
+TEST(LivoxControl, GivenAQueryAndItsAckThenBothRoundTripThroughBytes) {
+  const ControlFrame q = makeQueryRequest(21, {0x8000, 0x8002});
+  const auto qb = encodeControlFrame(q);
+  // key_num 2, reserved, then the two keys: 4 + 4 data bytes.
+  ASSERT_EQ(qb.size(), kControlHeaderSize + 8);
+  EXPECT_EQ(qb[kControlHeaderSize], 2);
+  EXPECT_EQ(qb[kControlHeaderSize + 5], 0x80);
+  ControlFrame qd;
+  ASSERT_EQ(decodeControlFrame(qb, qd), ControlStatus::kOk);
+  const auto keys = parseQueryRequest(qd);
+  ASSERT_TRUE(keys);
+  EXPECT_EQ(*keys, (std::vector<uint16_t>{0x8000, 0x8002}));
+
+  QueryAck ack;
+  ack.values = {KeyValue{0x8002, {15, 5, 1, 20}}, KeyValue{0x800C, {1}}};
+  const auto ab = encodeControlFrame(makeQueryAck(21, ack));
+  // ret_code, key_num (2 bytes), then key, length, value per entry (no reserved field).
+  ASSERT_EQ(ab.size(), kControlHeaderSize + 3 + (4 + 4) + (4 + 1));
+  ControlFrame ad;
+  ASSERT_EQ(decodeControlFrame(ab, ad), ControlStatus::kOk);
+  EXPECT_TRUE(isAckOf(ad, q));
+  const auto parsed = parseQueryAck(ad);
+  ASSERT_TRUE(parsed);
+  EXPECT_EQ(parsed->ret_code, 0);
+  ASSERT_EQ(parsed->values.size(), 2u);
+  const KeyValue* fw = findKey(parsed->values, Key::kFirmwareVersion);
+  ASSERT_NE(fw, nullptr);
+  EXPECT_EQ(fw->value, (std::vector<uint8_t>{15, 5, 1, 20}));
+  EXPECT_EQ(findKey(parsed->values, Key::kSerialNumber), nullptr);
+  // A truncated list is refused.
+  ad.data.pop_back();
+  EXPECT_FALSE(parseQueryAck(ad));
+}
+
+TEST(LivoxControl, GivenWorkModesThenOnlySamplingAndIdleAreSettableOnAMid360) {
+  EXPECT_TRUE(isSettableWorkMode(0x01));
+  EXPECT_TRUE(isSettableWorkMode(0x02));
+  EXPECT_FALSE(isSettableWorkMode(0x03));  // not a Mid-360 state
+  EXPECT_FALSE(isSettableWorkMode(0x00));
+  EXPECT_FALSE(isSettableWorkMode(0x04));
+  const KeyValue att = makeInstallAttitude(0.0f, 0.0f, 0.0f, 0, 0, 0);
+  EXPECT_EQ(att.key, 0x0012);
+  EXPECT_EQ(att.value, std::vector<uint8_t>(24, 0));
+  const KeyValue dt = makeUint8(Key::kPointDataType, 1);
+  EXPECT_EQ(dt.key, 0x0000);
+  EXPECT_EQ(dt.value, std::vector<uint8_t>{1});
 }

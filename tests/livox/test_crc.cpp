@@ -1,4 +1,4 @@
-// CRC check values of REFERENCE.md §2 (the catalogue's "123456789" check strings).
+// CRC check values (docs/reference.md; the catalogue's "123456789" check strings).
 #include <gtest/gtest.h>
 
 #include <string>

@@ -270,21 +270,6 @@ TEST(LivoxPointPacket, GivenATableOfMalformedPacketsThenEachIsRejectedWithItsSta
     cases.push_back({"unknown data type 7", b, ParseStatus::kUnknownDataType});
   }
   {
-    auto b = goodType1(3);
-    b[40] ^= 0x01;
-    cases.push_back({"payload bit flip", b, ParseStatus::kBadCrc});
-  }
-  {
-    auto b = goodType1(3);
-    b[28] ^= 0x80;  // timestamp is covered by the crc
-    cases.push_back({"timestamp bit flip", b, ParseStatus::kBadCrc});
-  }
-  {
-    auto b = goodType1(3);
-    b[25] ^= 0xFF;
-    cases.push_back({"crc field corrupted", b, ParseStatus::kBadCrc});
-  }
-  {
     Bytes p = livox_test::header(0, 2, 0, 0, 0, 1);
     for (int i = 0; i < 12; ++i) p.f32(0);
     cases.push_back({"imu with dot_num 2", finish(p), ParseStatus::kBadLength});
@@ -295,16 +280,6 @@ TEST(LivoxPointPacket, GivenATableOfMalformedPacketsThenEachIsRejectedWithItsSta
     Bytes p = livox_test::header(0, 1, 0, 0, 0, 1);
     p.f32(0); p.f32(0); p.f32(0); p.f32(0); p.f32(0); p.f32(3.0e38f);  // finite g, Inf in m/s^2
     cases.push_back({"imu acc overflows once scaled", finish(p), ParseStatus::kNonFinite});
-  }
-  {
-    Bytes p = livox_test::header(3, 1, 0, 0, 0, 1);
-    p.u32(1000); p.u16(18001); p.u16(0); p.u8(0); p.u8(0);
-    cases.push_back({"spherical theta 180.01 deg", finish(p), ParseStatus::kBadValue});
-  }
-  {
-    Bytes p = livox_test::header(3, 1, 0, 0, 0, 1);
-    p.u32(1000); p.u16(100); p.u16(36000); p.u8(0); p.u8(0);
-    cases.push_back({"spherical phi 360 deg", finish(p), ParseStatus::kBadValue});
   }
 
   {
@@ -322,6 +297,61 @@ TEST(LivoxPointPacket, GivenATableOfMalformedPacketsThenEachIsRejectedWithItsSta
   }
   // Null data never crashes.
   EXPECT_EQ(parsePacket(nullptr, 100, out), ParseStatus::kTruncatedHeader);
+}
+
+TEST(LivoxPointPacket, GivenTheCrc32FieldThenItIsReportedNotEnforced) {
+  // Livox's own tools never check this field: a packet is kept whatever it says, and the
+  // receiver learns whether it was absent (0), matching or not.
+  ParsedPacket out;
+  auto good = goodType1(3);
+  ASSERT_EQ(parsePacket(good.data(), good.size(), out), ParseStatus::kOk);
+  EXPECT_EQ(out.crc, CrcCheck::kMatch);
+  auto zero = good;
+  for (int i = 24; i < 28; ++i) zero[i] = 0;
+  ASSERT_EQ(parsePacket(zero.data(), zero.size(), out), ParseStatus::kOk);
+  EXPECT_EQ(out.crc, CrcCheck::kAbsent);
+  EXPECT_EQ(out.points.size(), 3u);
+  const std::pair<const char*, std::size_t> flips[] = {{"payload", 40}, {"timestamp", 28}, {"crc", 25}};
+  for (const auto& [what, at] : flips) {
+    auto b = good;
+    b[at] ^= 0x80;
+    ASSERT_EQ(parsePacket(b.data(), b.size(), out), ParseStatus::kOk) << what;
+    EXPECT_EQ(out.crc, CrcCheck::kMismatch) << what;
+  }
+  EXPECT_STREQ(toString(CrcCheck::kMismatch), "mismatch");
+}
+
+TEST(LivoxPointPacket, GivenSphericalAngleExtremesThenAzimuth360IsValidAndABadRecordDropsOnlyItself) {
+  // Records: phi = 36000 (360 deg, documented, same direction as 0), theta = 18001 (not a
+  // direction), phi = 36001 (not a direction), and an ordinary one.
+  Bytes p = livox_test::header(3, 4, 400, 0, 0, 1000);
+  p.u32(2000); p.u16(9000); p.u16(36000); p.u8(7); p.u8(0);
+  p.u32(2000); p.u16(18001); p.u16(0); p.u8(8); p.u8(0);
+  p.u32(2000); p.u16(9000); p.u16(36001); p.u8(9); p.u8(0);
+  p.u32(3000); p.u16(9000); p.u16(9000); p.u8(10); p.u8(0);
+  const auto b = finish(p);
+  ParsedPacket out;
+  ASSERT_EQ(parsePacket(b.data(), b.size(), out), ParseStatus::kOk);
+  ASSERT_EQ(out.points.size(), 2u);
+  EXPECT_EQ(out.bad_points, 2u);
+  EXPECT_NEAR(out.points[0].x, 2.0f, 1e-5f);  // along +x, like phi = 0
+  EXPECT_NEAR(out.points[0].y, 0.0f, 1e-5f);
+  EXPECT_NEAR(out.points[0].z, 0.0f, 1e-5f);
+  EXPECT_EQ(out.points[0].reflectivity, 7);
+  EXPECT_NEAR(out.points[1].y, 3.0f, 1e-5f);  // phi 90 deg
+  EXPECT_EQ(out.points[1].reflectivity, 10);
+  // Each kept point keeps its own time: record 3 of 4 at 3/4 of the 40 us interval.
+  EXPECT_EQ(out.points[0].time_ns, 1000u);
+  EXPECT_EQ(out.points[1].time_ns, 1000u + 30000u);
+}
+
+TEST(LivoxPointPacket, GivenTheMid360TagThenItsThreeConfidenceFieldsAreReadApart) {
+  const uint8_t t = MidTag::make(1, 2, 3);
+  EXPECT_EQ(t, 0x39);
+  EXPECT_EQ(MidTag::sticking(t), 1);
+  EXPECT_EQ(MidTag::rainFogDust(t), 2);
+  EXPECT_EQ(MidTag::otherNoise(t), 3);
+  EXPECT_EQ(MidTag::rainFogDust(0xC0), 0);  // reserved bits 6-7 belong to no field
 }
 
 TEST(LivoxPointPacket, GivenEveryStatusThenToStringNamesItDistinctly) {

@@ -704,3 +704,44 @@ TEST(PerceptionNode, GivenTwoPeoplePassingCloseThenRegisteredVelocitiesAreCloser
   const double on = passingVelocityError(true), off = passingVelocityError(false);
   EXPECT_LT(on, 0.8 * off) << "rms velocity error, registration " << on << " m/s, centres " << off << " m/s";
 }
+
+TEST(PerceptionNode, GivenTheCloudsSensorOriginThenFreeSpaceRaysStartThereInsteadOfTheConfiguredOrigin) {
+  // The same frames without origins (the configured one, 0,0,0.5, is used) and with the driver's
+  // origin equal to it give byte-identical outputs; another origin in the cloud moves the
+  // static output's origin (the ray start) with it.
+  const std::vector<scene::Person> people = {{-2.0, 1.0, 1.0, 0.0}};
+  const auto at = [&](int) { return people; };
+  const auto run = [&](bool with_origin, float ox, float oy, float oz) {
+    PerceptionNode node(testParams());
+    scene::Generator gen;
+    std::vector<std::vector<uint8_t>> bytes;
+    ucon::static_points_t last{};
+    for (int k = 0; k < 40; ++k) {
+      node.onPose(scene::pose(scene::frameTime(k)));
+      auto c = gen.frame(k, at(k), kWalls);
+      if (with_origin) {
+        c.num_sensors = 1;
+        c.sensor_ids = {0x7F000001};
+        c.origin_x = {ox};
+        c.origin_y = {oy};
+        c.origin_z = {oz};
+      }
+      const auto out = node.onPoints(c);
+      if (out.objects) {
+        std::vector<uint8_t> b(static_cast<std::size_t>(out.objects->getEncodedSize()));
+        out.objects->encode(b.data(), 0, static_cast<int>(b.size()));
+        bytes.push_back(std::move(b));
+      }
+      if (out.static_points) last = *out.static_points;
+    }
+    return std::make_pair(bytes, last);
+  };
+  const auto plain = run(false, 0, 0, 0);
+  const auto same = run(true, 0.0f, 0.0f, 0.5f);
+  EXPECT_EQ(plain.first, same.first);
+  EXPECT_NEAR(plain.second.origin_z, 0.5, 1e-9);
+  const auto moved = run(true, 0.3f, -0.2f, 0.8f);
+  EXPECT_NEAR(moved.second.origin_x, 0.3, 1e-6);
+  EXPECT_NEAR(moved.second.origin_y, -0.2, 1e-6);
+  EXPECT_NEAR(moved.second.origin_z, 0.8, 1e-6);
+}

@@ -82,7 +82,8 @@ TEST(PerceptionProcesses, GivenSimulatorDriverAndPerceptionOverLcmThenObjectsArr
   setKey(sim, "point_src_port", "7784");
   setKey(sim, "imu_src_port", "7785");
   std::string drv = readFile(src + "/deploy/config/lidar_driver.yaml");
-  setKey(drv, "sensor_discovery_port", "7782");
+  setKey(drv, "discovery_port", "7782");
+  setKey(drv, "host_push_port", "7789");
   setKey(drv, "sensor_command_port", "7783");
   setKey(drv, "sensor_point_port", "7784");
   setKey(drv, "sensor_imu_port", "7785");

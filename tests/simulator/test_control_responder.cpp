@@ -53,14 +53,14 @@ TEST(ControlResponder, GivenHostIpAndWorkModeCommandsThenTheStateChangesAndTheAc
   const auto ack = roundTrip(r, livox::makeSetKeyValueRequest(
                                     5, {livox::makeHostIpConfig(livox::Key::kPointDataHostIpConfig, pc),
                                         livox::makeHostIpConfig(livox::Key::kImuDataHostIpConfig, ic),
-                                        livox::makeWorkMode(livox::WorkMode::kSleep)}));
+                                        livox::makeWorkMode(livox::WorkMode::kIdle)}));
   const auto res = livox::parseSetKeyValueAck(ack);
   ASSERT_TRUE(res);
   EXPECT_EQ(res->ret_code, 0);
   EXPECT_EQ(r.state().point_host_port, 57150);
   EXPECT_EQ(r.state().imu_host_port, 57151);
   EXPECT_FALSE(r.state().sampling());
-  roundTrip(r, livox::makeSetKeyValueRequest(6, {livox::makeWorkMode(livox::WorkMode::kNormal)}));
+  roundTrip(r, livox::makeSetKeyValueRequest(6, {livox::makeWorkMode(livox::WorkMode::kSampling)}));
   EXPECT_TRUE(r.state().sampling());
 }
 
@@ -70,7 +70,7 @@ TEST(ControlResponder, GivenAnUnknownKeyThenTheAckNamesItAndNothingChanges) {
   bogus.key = 0x7777;
   bogus.value = {1};
   const auto ack = roundTrip(r, livox::makeSetKeyValueRequest(
-                                    9, {livox::makeWorkMode(livox::WorkMode::kSleep), bogus}));
+                                    9, {livox::makeWorkMode(livox::WorkMode::kIdle), bogus}));
   const auto res = livox::parseSetKeyValueAck(ack);
   ASSERT_TRUE(res);
   EXPECT_NE(res->ret_code, 0);
@@ -121,11 +121,89 @@ TEST(ControlResponder, GivenTheSimulatorThenPacketsFollowTheConfiguredHostAndSto
   ASSERT_EQ(livox::parsePacket(out.point_packets[0].bytes.data(), out.point_packets[0].bytes.size(), pk),
             livox::ParseStatus::kOk);
   EXPECT_EQ(pk.header.data_type, 3);
-  req = livox::encodeControlFrame(livox::makeSetKeyValueRequest(2, {livox::makeWorkMode(livox::WorkMode::kSleep)}));
+  req = livox::encodeControlFrame(livox::makeSetKeyValueRequest(2, {livox::makeWorkMode(livox::WorkMode::kIdle)}));
   ASSERT_TRUE(sim.control().handle(req.data(), req.size()));
   out.clear();
   sim.advanceTo(p.start_utime + 40000, out);
   EXPECT_TRUE(out.point_packets.empty());
   EXPECT_TRUE(out.imu_packets.empty());
   EXPECT_FALSE(out.poses.empty());  // the base keeps running
+}
+
+TEST(ControlResponder, GivenAWorkModeAMid360DoesNotHaveThenTheCommandIsRejectedLikeTheSensorDoes) {
+  auto r = responder();
+  for (uint8_t mode : {uint8_t{0x00}, uint8_t{0x03}, uint8_t{0x04}, uint8_t{0x09}}) {
+    livox::KeyValue kv{static_cast<uint16_t>(livox::Key::kWorkMode), {mode}};
+    const auto ack = roundTrip(r, livox::makeSetKeyValueRequest(20 + mode, {kv}));
+    const auto res = livox::parseSetKeyValueAck(ack);
+    ASSERT_TRUE(res);
+    EXPECT_NE(res->ret_code, 0) << int(mode);
+    EXPECT_EQ(res->error_key, 0x001A) << int(mode);
+    EXPECT_TRUE(r.state().sampling()) << "unchanged";
+  }
+  // Data type, pattern and attitude, as the driver sets them at every start, are accepted.
+  const auto ack = roundTrip(r, livox::makeSetKeyValueRequest(
+                                    40, {livox::makeUint8(livox::Key::kPointDataType, 1),
+                                         livox::makeUint8(livox::Key::kPatternMode, 0),
+                                         livox::makeInstallAttitude(0, 0, 0, 0, 0, 0)}));
+  EXPECT_EQ(livox::parseSetKeyValueAck(ack)->ret_code, 0);
+}
+
+TEST(ControlResponder, GivenDiscoveryThenTheAnswerIsMarkedForBroadcastAndAQueryIsAnswered) {
+  auto r = responder();
+  bool broadcast = false;
+  auto req = livox::encodeControlFrame(livox::makeDiscoveryRequest(3));
+  ASSERT_TRUE(r.handle(req.data(), req.size(), &broadcast));
+  EXPECT_TRUE(broadcast) << "a Mid-360 answers discovery by broadcast";
+  req = livox::encodeControlFrame(livox::makeSetKeyValueRequest(4, {livox::makeWorkMode(livox::WorkMode::kIdle)}));
+  ASSERT_TRUE(r.handle(req.data(), req.size(), &broadcast));
+  EXPECT_FALSE(broadcast);
+  const auto q = livox::makeQueryRequest(5, {0x8000, 0x8002, 0x8006, 0x9999});
+  const auto ack = roundTrip(r, q);
+  const auto res = livox::parseQueryAck(ack);
+  ASSERT_TRUE(res);
+  ASSERT_EQ(res->values.size(), 3u);  // the unknown key is left out
+  EXPECT_EQ(std::string(res->values[0].value.begin(), res->values[0].value.begin() + 10), "SIM360TEST");
+  EXPECT_EQ(res->values[1].value.size(), 4u);
+  EXPECT_EQ(res->values[2].value, std::vector<uint8_t>{0x02});  // idle, as set above
+}
+
+TEST(ControlResponder, GivenAnExtraLidarThenItAnswersOnItsOwnAndSendsItsOwnPointsFromItsMount) {
+  SimulatorParams p;
+  p.base.geometry.max_wheel_speed = 40;
+  ExtraLidarParams e;
+  e.sensor_ip = "127.0.0.2";
+  e.serial = "SIMREAR";
+  e.mount_xyz = {-0.3, 0.0, 0.4};
+  e.mount_rpy_deg = {0.0, 0.0, 180.0};
+  p.extra_lidars.push_back(e);
+  ASSERT_EQ(p.validate(), "");
+  world::Scenario s;
+  s.name = "empty";
+  Simulator sim(p, s);
+  ASSERT_EQ(sim.sensorCount(), 2u);
+  // Each sensor answers discovery with its own address and serial.
+  const auto req = livox::encodeControlFrame(livox::makeDiscoveryRequest(8));
+  const auto reply = sim.control(1).handle(req.data(), req.size());
+  ASSERT_TRUE(reply);
+  livox::ControlFrame f;
+  ASSERT_EQ(livox::decodeControlFrame(*reply, f), livox::ControlStatus::kOk);
+  EXPECT_EQ(livox::parseDiscoveryAck(f)->serial, "SIMREAR");
+  EXPECT_EQ(livox::formatIpv4(livox::parseDiscoveryAck(f)->lidar_ip), "127.0.0.2");
+  // Idle on the first sensor does not silence the second.
+  const auto idle = livox::encodeControlFrame(livox::makeSetKeyValueRequest(9, {livox::makeWorkMode(livox::WorkMode::kIdle)}));
+  ASSERT_TRUE(sim.control(0).handle(idle.data(), idle.size()));
+  SimOutputs out;
+  sim.advanceTo(p.start_utime + 25000, out);
+  int from0 = 0, from1 = 0;
+  uint16_t last_cnt = 0;
+  for (const auto& d : out.point_packets) {
+    (d.sensor == 0 ? from0 : from1) += 1;
+    livox::ParsedPacket pk;
+    ASSERT_EQ(livox::parsePacket(d.bytes.data(), d.bytes.size(), pk), livox::ParseStatus::kOk);
+    if (d.sensor == 1) last_cnt = pk.header.udp_cnt;
+  }
+  EXPECT_EQ(from0, 0);
+  EXPECT_GE(from1, 50);
+  EXPECT_LT(last_cnt, 45) << "udp_cnt restarts with each 20 ms frame";
 }

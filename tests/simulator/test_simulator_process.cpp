@@ -32,14 +32,16 @@ constexpr int kPointPort = 27110, kImuPort = 27111, kDiscoveryPort = 27112, kCom
 constexpr int kHostCommandPort = 27114;
 const char* kLcmUrl = "udpm://239.255.76.67:7702?ttl=0";
 
-int udpSocket(int port) {
+// Bound to 127.0.0.1, or (any_address) to 0.0.0.0: a Mid-360 answers discovery by broadcast,
+// which Linux delivers only to a socket bound to the any-address.
+int udpSocket(int port, bool any_address = false) {
   const int fd = socket(AF_INET, SOCK_DGRAM, 0);
   const int buf = 8 * 1024 * 1024;
   setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &buf, sizeof(buf));
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_addr.s_addr = htonl(any_address ? INADDR_ANY : INADDR_LOOPBACK);
   if (bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) != 0) {
     close(fd);
     return -1;
@@ -91,7 +93,7 @@ struct PoseCounter {
 }  // namespace
 
 TEST(SimulatorProcess, GivenTwoSecondsAtRealTimeThenPacketsPosesAndControlAcksArrive) {
-  const int pts = udpSocket(kPointPort), imu = udpSocket(kImuPort), host = udpSocket(kHostCommandPort);
+  const int pts = udpSocket(kPointPort), imu = udpSocket(kImuPort), host = udpSocket(kHostCommandPort, true);
   ASSERT_GE(pts, 0);
   ASSERT_GE(imu, 0);
   ASSERT_GE(host, 0);

@@ -1,15 +1,19 @@
 #pragma once
 /// @file test_support.hpp
-/// Helpers the tests share: start a built executable as a child process, write one message
-/// into an LCM log file.
+/// Helpers the tests share: start a built executable as a child process and wait for it, write
+/// one message into an LCM log file.
 #include <gtest/gtest.h>
 #include <lcm/lcm-cpp.hpp>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdint>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -35,6 +39,22 @@ inline pid_t spawn(const std::vector<std::string>& args, const std::string& log 
     _exit(127);
   }
   return pid;
+}
+
+/// Waits up to `limit_s` for child `pid` to exit; returns its exit code (128 + signal if a
+/// signal ended it), or -1 after killing it when it did not exit in time.
+inline int waitExit(pid_t pid, double limit_s) {
+  const auto t0 = std::chrono::steady_clock::now();
+  int st = 0;
+  while (waitpid(pid, &st, WNOHANG) != pid) {
+    if (std::chrono::steady_clock::now() - t0 > std::chrono::duration<double>(limit_s)) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &st, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
 
 /// Appends one encoded message as an event of `channel` at `utime` [us] to an open log.

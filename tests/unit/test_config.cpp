@@ -134,3 +134,36 @@ TEST(Config, GivenADocumentThatIsNotAMappingThenItIsRejected) {
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_NE(errors[0].message.find("mapping"), std::string::npos);
 }
+
+TEST(Config, GivenAListOfMappingsThenEachElementIsReadAndItsErrorsNameTheIndex) {
+  struct Item {
+    double x = 0.0;
+    void read(ucon::ConfigReader& r) { r.read("x", x, 0.0, 10.0); }
+  };
+  struct Listed {
+    std::vector<Item> items;
+    void read(ucon::ConfigReader& r) {
+      for (auto& e : r.sections("items")) {
+        items.emplace_back();
+        items.back().read(e);
+      }
+    }
+  };
+  std::vector<ucon::ConfigError> errors;
+  auto ok = ucon::loadParams<Listed>("items:\n  - {x: 1.5}\n  - {x: 2.5}\n", "", &errors);
+  ASSERT_TRUE(ok.has_value());
+  ASSERT_EQ(ok->items.size(), 2u);
+  EXPECT_DOUBLE_EQ(ok->items[1].x, 2.5);
+  EXPECT_TRUE(ucon::loadParams<Listed>("items: []\n", "", &errors)->items.empty());
+
+  EXPECT_FALSE(ucon::loadParams<Listed>("items:\n  - {x: 1}\n  - {x: 20}\n", "", &errors));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_EQ(errors[0].key, "items[1].x");
+  EXPECT_FALSE(ucon::loadParams<Listed>("items:\n  - {x: 1, y: 2}\n", "", &errors));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_EQ(errors[0].key, "items[0].y");  // unknown key inside an element
+  EXPECT_FALSE(ucon::loadParams<Listed>("items: 3\n", "", &errors));
+  EXPECT_FALSE(ucon::loadParams<Listed>("items:\n  - 3\n", "", &errors));
+  ASSERT_FALSE(errors.empty());
+  EXPECT_EQ(errors[0].key, "items[0]");
+}

@@ -58,14 +58,15 @@ TEST(ShippedConfig, GivenLidarDriverYamlWhenLoadedThenEveryFieldEqualsTheInClass
   const auto& s = c.shipped();
   const ucon::lidar_driver::DriverParams d;
   c.expect("network.host_ip", s.network.host_ip, d.network.host_ip);
-  c.expect("network.sensor_ip", s.network.sensor_ip, d.network.sensor_ip);
   c.expect("network.discovery", s.network.discovery, d.network.discovery);
   c.expect("network.discovery_address", s.network.discovery_address, d.network.discovery_address);
-  c.expect("network.sensor_discovery_port", s.network.sensor_discovery_port, d.network.sensor_discovery_port);
+  c.expect("network.discovery_port", s.network.discovery_port, d.network.discovery_port);
   c.expect("network.sensor_command_port", s.network.sensor_command_port, d.network.sensor_command_port);
+  c.expect("network.sensor_push_port", s.network.sensor_push_port, d.network.sensor_push_port);
   c.expect("network.sensor_point_port", s.network.sensor_point_port, d.network.sensor_point_port);
   c.expect("network.sensor_imu_port", s.network.sensor_imu_port, d.network.sensor_imu_port);
   c.expect("network.host_command_port", s.network.host_command_port, d.network.host_command_port);
+  c.expect("network.host_push_port", s.network.host_push_port, d.network.host_push_port);
   c.expect("network.host_point_port", s.network.host_point_port, d.network.host_point_port);
   c.expect("network.host_imu_port", s.network.host_imu_port, d.network.host_imu_port);
   c.expect("network.socket_buffer_bytes", s.network.socket_buffer_bytes, d.network.socket_buffer_bytes);
@@ -73,16 +74,26 @@ TEST(ShippedConfig, GivenLidarDriverYamlWhenLoadedThenEveryFieldEqualsTheInClass
   c.expect("control.timeout_s", s.control.timeout_s, d.control.timeout_s);
   c.expect("control.retry_interval_s", s.control.retry_interval_s, d.control.retry_interval_s);
   c.expect("control.work_mode", s.control.work_mode, d.control.work_mode);
-  c.expect("control.imu_enabled", s.control.imu_enabled, d.control.imu_enabled);
+  c.expect("control.point_data_type", s.control.point_data_type, d.control.point_data_type);
+  c.expect("control.reset_install_attitude", s.control.reset_install_attitude, d.control.reset_install_attitude);
+  c.expect("control.reconfigure_after_s", s.control.reconfigure_after_s, d.control.reconfigure_after_s);
   c.expect("frame.rate_hz", s.frame.rate_hz, d.frame.rate_hz);
   c.expect("frame.max_points", s.frame.max_points, d.frame.max_points);
   c.expect("frame.idle_flush_s", s.frame.idle_flush_s, d.frame.idle_flush_s);
-  c.expect("extrinsic.apply", s.extrinsic.apply, d.extrinsic.apply);
-  c.expect("extrinsic.xyz", s.extrinsic.xyz, d.extrinsic.xyz);
-  c.expect("extrinsic.rpy_deg", s.extrinsic.rpy_deg, d.extrinsic.rpy_deg);
+  c.expect("frame.apply_extrinsic", s.frame.apply_extrinsic, d.frame.apply_extrinsic);
+  c.expect("frame.merge_wait_s", s.frame.merge_wait_s, d.frame.merge_wait_s);
   c.expect("filter.min_range_m", s.filter.min_range_m, d.filter.min_range_m);
   c.expect("filter.max_range_m", s.filter.max_range_m, d.filter.max_range_m);
-  c.expect("filter.tag_drop_mask", s.filter.tag_drop_mask, d.filter.tag_drop_mask);
+  c.expect("filter.drop_sticking_level", s.filter.drop_sticking_level, d.filter.drop_sticking_level);
+  c.expect("filter.drop_rain_fog_dust_level", s.filter.drop_rain_fog_dust_level, d.filter.drop_rain_fog_dust_level);
+  c.expect("filter.drop_other_noise_level", s.filter.drop_other_noise_level, d.filter.drop_other_noise_level);
+  // The list of sensors: the shipped one is the default sensor.
+  c.expect("sensors", s.sensors.size(), d.sensors.size());
+  ASSERT_EQ(s.sensors.size(), 1u);
+  EXPECT_EQ(s.sensors[0].ip, d.sensors[0].ip);
+  EXPECT_EQ(s.sensors[0].xyz, d.sensors[0].xyz);
+  EXPECT_EQ(s.sensors[0].rpy_deg, d.sensors[0].rpy_deg);
+  EXPECT_EQ(s.sensors[0].imu, d.sensors[0].imu);
   c.expect("status_period_s", s.status_period_s, d.status_period_s);
   c.expectEveryKeyChecked();
 }
@@ -151,6 +162,7 @@ TEST(ShippedConfig, GivenSimulatorYamlWhenLoadedThenEveryFieldEqualsTheInClassDe
   c.expect("net.point_src_port", s.net.point_src_port, d.net.point_src_port);
   c.expect("net.imu_src_port", s.net.imu_src_port, d.net.imu_src_port);
   c.expect("net.serial", s.net.serial, d.net.serial);
+  c.expect("extra_lidars", s.extra_lidars.size(), d.extra_lidars.size());
   c.expect("base.wheel_radius", s.base.geometry.wheel_radius, d.base.geometry.wheel_radius);
   c.expect("base.half_wheelbase", s.base.geometry.half_wheelbase, d.base.geometry.half_wheelbase);
   c.expect("base.half_track", s.base.geometry.half_track, d.base.geometry.half_track);

@@ -56,6 +56,11 @@ class ConfigReader {
   /// it is missing or not a mapping.
   ConfigReader section(const std::string& key);
 
+  /// Readers over the list of mappings `key` (e.g. a list of sensors), one per element, named
+  /// "key[i]" in errors. Records an error (and returns none) if it is missing or not a list
+  /// of mappings; an empty list gives none.
+  std::vector<ConfigReader> sections(const std::string& key);
+
   /// Records an error for `key` (for cross-field checks in a struct's validate()).
   void fail(const std::string& key, const std::string& message);
 

@@ -122,6 +122,34 @@ KeyValue makeWorkMode(WorkMode mode) {
   return KeyValue{static_cast<uint16_t>(Key::kWorkMode), {static_cast<uint8_t>(mode)}};
 }
 
+bool isSettableWorkMode(uint8_t mode) {
+  return mode == static_cast<uint8_t>(WorkMode::kSampling) ||
+         mode == static_cast<uint8_t>(WorkMode::kIdle);
+}
+
+KeyValue makeUint8(Key key, uint8_t value) { return KeyValue{static_cast<uint16_t>(key), {value}}; }
+
+KeyValue makeInstallAttitude(float roll_deg, float pitch_deg, float yaw_deg, int32_t x_mm,
+                             int32_t y_mm, int32_t z_mm) {
+  KeyValue kv;
+  kv.key = static_cast<uint16_t>(Key::kInstallAttitude);
+  kv.value.resize(24);
+  le::store(&kv.value[0], roll_deg);
+  le::store(&kv.value[4], pitch_deg);
+  le::store(&kv.value[8], yaw_deg);
+  le::store(&kv.value[12], x_mm);
+  le::store(&kv.value[16], y_mm);
+  le::store(&kv.value[20], z_mm);
+  return kv;
+}
+
+const KeyValue* findKey(const std::vector<KeyValue>& kvs, Key key) {
+  for (const KeyValue& kv : kvs) {
+    if (kv.key == static_cast<uint16_t>(key)) return &kv;
+  }
+  return nullptr;
+}
+
 std::optional<uint8_t> parseWorkMode(const KeyValue& kv) {
   if (kv.value.size() != 1) return std::nullopt;
   return kv.value[0];
@@ -168,6 +196,61 @@ ControlFrame makeSetKeyValueAck(uint32_t seq, const SetKeyValueAck& ack) {
   d[0] = ack.ret_code;
   le::store<uint16_t>(&d[1], ack.error_key);
   return makeFrame(seq, CommandId::kSetKeyValue, CommandType::kAck, Sender::kLidar, std::move(d));
+}
+
+ControlFrame makeQueryRequest(uint32_t seq, const std::vector<uint16_t>& keys) {
+  std::vector<uint8_t> d(4 + 2 * keys.size(), 0);
+  le::store<uint16_t>(d.data(), static_cast<uint16_t>(keys.size()));
+  for (std::size_t i = 0; i < keys.size(); ++i) le::store<uint16_t>(&d[4 + 2 * i], keys[i]);
+  return makeFrame(seq, CommandId::kQuery, CommandType::kRequest, Sender::kHost, std::move(d));
+}
+
+ControlFrame makeQueryAck(uint32_t seq, const QueryAck& ack) {
+  // The same list layout as a set command, with ret_code in front of it (and no reserved u16).
+  const std::vector<uint8_t> list = encodeKeyValueList(ack.values);
+  std::vector<uint8_t> d;
+  d.reserve(list.size() + 1);
+  d.push_back(ack.ret_code);
+  d.insert(d.end(), list.begin(), list.begin() + 2);  // key_num
+  d.insert(d.end(), list.begin() + 4, list.end());    // entries
+  return makeFrame(seq, CommandId::kQuery, CommandType::kAck, Sender::kLidar, std::move(d));
+}
+
+ControlFrame makePushMessage(uint32_t seq, const std::vector<KeyValue>& kvs) {
+  return makeFrame(seq, CommandId::kPush, CommandType::kRequest, Sender::kLidar,
+                   encodeKeyValueList(kvs));
+}
+
+std::optional<std::vector<uint16_t>> parseQueryRequest(const ControlFrame& f) {
+  if (!is(f, CommandId::kQuery, CommandType::kRequest) || f.data.size() < 4) return std::nullopt;
+  const uint16_t n = le::load<uint16_t>(f.data.data());
+  if (f.data.size() != 4 + 2 * static_cast<std::size_t>(n)) return std::nullopt;
+  std::vector<uint16_t> keys(n);
+  for (uint16_t i = 0; i < n; ++i) keys[i] = le::load<uint16_t>(&f.data[4 + 2 * i]);
+  return keys;
+}
+
+std::optional<QueryAck> parseQueryAck(const ControlFrame& f) {
+  if (!is(f, CommandId::kQuery, CommandType::kAck) || f.data.size() < 3) return std::nullopt;
+  QueryAck a;
+  a.ret_code = f.data[0];
+  // Rebuild the set-command layout (count, reserved, entries) to reuse its decoder.
+  std::vector<uint8_t> list(f.data.begin() + 1, f.data.begin() + 3);
+  list.push_back(0);
+  list.push_back(0);
+  list.insert(list.end(), f.data.begin() + 3, f.data.end());
+  auto kvs = decodeKeyValueList(list);
+  if (!kvs) return std::nullopt;
+  a.values = std::move(*kvs);
+  return a;
+}
+
+std::optional<std::vector<KeyValue>> parsePushMessage(const ControlFrame& f) {
+  if (f.cmd_id != static_cast<uint16_t>(CommandId::kPush) ||
+      f.sender != static_cast<uint8_t>(Sender::kLidar)) {
+    return std::nullopt;
+  }
+  return decodeKeyValueList(f.data);
 }
 
 std::optional<DiscoveryInfo> parseDiscoveryAck(const ControlFrame& f) {

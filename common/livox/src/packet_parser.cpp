@@ -22,6 +22,15 @@ const char* toString(ParseStatus status) {
   return "unknown";
 }
 
+const char* toString(CrcCheck c) {
+  switch (c) {
+    case CrcCheck::kAbsent: return "absent";
+    case CrcCheck::kMatch: return "match";
+    case CrcCheck::kMismatch: return "mismatch";
+  }
+  return "unknown";
+}
+
 namespace {
 
 constexpr uint64_t kMaxTimestampNs = (uint64_t{1} << 62);  // ~146 years
@@ -47,6 +56,7 @@ const TrigTable& trig() {
 
 ParseStatus parsePacket(const uint8_t* data, std::size_t size, ParsedPacket& out) {
   out.points.clear();
+  out.bad_points = 0;
   if (data == nullptr || size < kPointHeaderSize) return ParseStatus::kTruncatedHeader;
   out.header = readHeader(data);
   const PacketHeader& h = out.header;
@@ -59,7 +69,12 @@ ParseStatus parsePacket(const uint8_t* data, std::size_t size, ParsedPacket& out
   if (kPointHeaderSize + static_cast<std::size_t>(h.dot_num) * rec != size) {
     return ParseStatus::kBadLength;
   }
-  if (crc32(data + kCrcStart, size - kCrcStart) != h.crc32) return ParseStatus::kBadCrc;
+  if (h.crc32 == 0) {
+    out.crc = CrcCheck::kAbsent;
+  } else {
+    out.crc = crc32(data + kCrcStart, size - kCrcStart) == h.crc32 ? CrcCheck::kMatch
+                                                                   : CrcCheck::kMismatch;
+  }
   // Later stages keep times as int64 ns and add per-point offsets (< 2^23 ns): a timestamp
   // that would overflow is not a sensor time.
   if (h.timestamp_ns > kMaxTimestampNs) return ParseStatus::kBadValue;
@@ -110,23 +125,29 @@ ParseStatus parsePacket(const uint8_t* data, std::size_t size, ParsedPacket& out
       }
       break;
     case DataType::kSpherical: {
+      // theta in [0, 180] deg from +z, phi in [0, 360] deg (360 is a documented value, the
+      // same direction as 0). A record outside these is not a measurement: it alone is left
+      // out, counted in bad_points.
       const TrigTable& t = trig();
+      std::size_t kept = 0;
       for (std::size_t i = 0; i < n; ++i, p += 10) {
-        const float d = static_cast<float>(le::load<uint32_t>(p)) * 1e-3f;
         const uint16_t theta = le::load<uint16_t>(p + 4);
         const uint16_t phi = le::load<uint16_t>(p + 6);
-        if (theta > 18000 || phi >= 36000) {
-          out.points.clear();
-          return ParseStatus::kBadValue;
+        if (theta > 18000 || phi > 36000) {
+          ++out.bad_points;
+          continue;
         }
+        const float d = static_cast<float>(le::load<uint32_t>(p)) * 1e-3f;
         const float st = t.sin_v[theta], ct = t.cos_v[theta];
-        q[i].x = d * st * t.cos_v[phi];
-        q[i].y = d * st * t.sin_v[phi];
-        q[i].z = d * ct;
-        q[i].reflectivity = p[8];
-        q[i].tag = p[9];
-        q[i].time_ns = t0 + span_ns * i / n;
+        ParsedPoint& o = q[kept++];
+        o.x = d * st * t.cos_v[phi];
+        o.y = d * st * t.sin_v[phi];
+        o.z = d * ct;
+        o.reflectivity = p[8];
+        o.tag = p[9];
+        o.time_ns = t0 + span_ns * i / n;
       }
+      out.points.resize(kept);
       break;
     }
     case DataType::kImu:

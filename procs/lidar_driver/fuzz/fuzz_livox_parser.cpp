@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "ucon/lidar_driver/captured_udp.hpp"
 #include "ucon/livox/control.hpp"
 #include "ucon/livox/crc.hpp"
 #include "ucon/livox/packet_parser.hpp"
@@ -26,7 +27,7 @@ void checkPacket(const uint8_t* data, size_t size) {
         std::abort();
       }
     } else {
-      if (pkt.points.size() != pkt.header.dot_num) std::abort();
+      if (pkt.points.size() + pkt.bad_points != pkt.header.dot_num) std::abort();
       for (const ParsedPoint& p : pkt.points) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) std::abort();
         if (p.time_ns < pkt.header.timestamp_ns) std::abort();
@@ -52,6 +53,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (int i = 0; i < 4; ++i) fixed[kCrcOffset + i] = static_cast<uint8_t>(c >> (8 * i));
     checkPacket(fixed.data(), size);
   }
+  // Any byte string is a captured frame of some link type: the datagram found lies inside it.
+  for (int link : {0, 1, 101, 113, 276}) {
+    if (const auto udp = ucon::lidar_driver::extractUdp(link, data, size, nullptr)) {
+      if (udp->payload < data || udp->payload + udp->size > data + size) std::abort();
+    }
+  }
   // Any byte string, with the crc fixed up or not, must be handled by the control decoder.
   ControlFrame f;
   if (decodeControlFrame(data, size, f) == ControlStatus::kOk) {
@@ -66,6 +73,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     (void)decodeKeyValueList(f.data);
     (void)parseDiscoveryAck(f);
     (void)parseSetKeyValueAck(f);
+    (void)parseQueryRequest(f);
+    (void)parseQueryAck(f);
+    (void)parsePushMessage(f);
   }
   return 0;
 }

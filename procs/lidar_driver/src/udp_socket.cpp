@@ -13,6 +13,16 @@
 namespace ucon {
 namespace lidar_driver {
 
+namespace {
+constexpr std::size_t kControlBytes = CMSG_SPACE(sizeof(timespec));
+}  // namespace
+
+int64_t realtimeNs() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 double monotonicSeconds() {
   timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -24,6 +34,8 @@ UdpSocket::UdpSocket(int fd)
       slots_(static_cast<std::size_t>(kBatch) * kSlotBytes),
       sizes_(kBatch),
       truncated_(kBatch),
+      stamps_(kBatch, 0),
+      control_(static_cast<std::size_t>(kBatch) * kControlBytes),
       addrs_(kBatch),
       iovs_(kBatch),
       msgs_(kBatch) {
@@ -39,7 +51,7 @@ UdpSocket::~UdpSocket() {
 }
 
 std::unique_ptr<UdpSocket> UdpSocket::open(const std::string& ip, uint16_t port, int rcvbuf_bytes,
-                                           std::string* error, std::string* warning) {
+                                           std::string* error, std::string* warning, bool shared) {
   const std::string where = ip + ":" + std::to_string(port);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -55,7 +67,9 @@ std::unique_ptr<UdpSocket> UdpSocket::open(const std::string& ip, uint16_t port,
   }
   std::unique_ptr<UdpSocket> s(new UdpSocket(fd));
   const int one = 1;
-  setsockopt(fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof(one));  // discovery may broadcast
+  setsockopt(fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof(one));  // discovery broadcasts
+  setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof(one));
+  if (shared) setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
   if (rcvbuf_bytes > 0) {
     // SO_RCVBUFFORCE passes net.core.rmem_max with CAP_NET_ADMIN; else the plain option.
     if (setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf_bytes, sizeof(rcvbuf_bytes)) != 0) {
@@ -91,6 +105,8 @@ int UdpSocket::receiveBatch() {
     msgs_[k].msg_hdr.msg_iovlen = 1;
     msgs_[k].msg_hdr.msg_name = &addrs_[k];
     msgs_[k].msg_hdr.msg_namelen = sizeof(sockaddr_storage);
+    msgs_[k].msg_hdr.msg_control = control_.data() + k * kControlBytes;
+    msgs_[k].msg_hdr.msg_controllen = kControlBytes;
     msgs_[k].msg_len = 0;
   }
   const int n = ::recvmmsg(fd_, msgs_.data(), kBatch, MSG_DONTWAIT, nullptr);
@@ -101,6 +117,15 @@ int UdpSocket::receiveBatch() {
     const std::size_t k = static_cast<std::size_t>(i);
     sizes_[k] = msgs_[k].msg_len;
     truncated_[k] = (msgs_[k].msg_hdr.msg_flags & MSG_TRUNC) != 0;
+    stamps_[k] = 0;
+    for (cmsghdr* c = CMSG_FIRSTHDR(&msgs_[k].msg_hdr); c != nullptr;
+         c = CMSG_NXTHDR(&msgs_[k].msg_hdr, c)) {
+      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+        timespec ts;
+        std::memcpy(&ts, CMSG_DATA(c), sizeof(ts));
+        stamps_[k] = static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+      }
+    }
   }
   return n;
 }

@@ -217,9 +217,8 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
       if (!persistent_[i]) not_static[i] = 1;
   }
   status_.time("persistence", elapsedMs(t));
-  const auto& so = params_.preprocess.sensor_origin;
-  out.static_points = staticMessage(utime, static_seq_, frame_.pose * Eigen::Vector3d(so[0], so[1], so[2]),
-                                    params_.preprocess.max_range, frame_.points, not_static);
+  out.static_points = staticMessage(utime, static_seq_, frame_.sensor_origin_d, params_.preprocess.max_range,
+                                    frame_.points, not_static);
   t = stopwatch_();
   motion_.push(frame_, a.tracked_point);
   status_.time("history", elapsedMs(t));

@@ -17,8 +17,13 @@ int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3
   f.utime = cloud.utime;
   f.pose = pose;
   f.robot_xy = pose.translation().head<2>();
+  // Where the points were measured from: the cloud's first sensor as the driver gives it, or
+  // (clouds without origins, e.g. older logs) the configured origin in the base frame.
   const auto& so = p.sensor_origin;
-  f.sensor_origin = (pose * Eigen::Vector3d(so[0], so[1], so[2])).cast<float>();
+  f.sensor_origin_d = cloud.num_sensors > 0
+                          ? T * Eigen::Vector3d(cloud.origin_x[0], cloud.origin_y[0], cloud.origin_z[0])
+                          : pose * Eigen::Vector3d(so[0], so[1], so[2]);
+  f.sensor_origin = f.sensor_origin_d.cast<float>();
 
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f tr = T.translation().cast<float>();
@@ -29,6 +34,9 @@ int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3
   kept.reserve(static_cast<std::size_t>(cloud.num_points));
   f.returns.clear();
   int64_t non_finite = 0;
+  // Several sensors: only the first one's returns are free-space evidence, since the free-space
+  // test casts rays from that sensor's origin (another sensor's ray starts elsewhere).
+  const bool several = cloud.num_sensors > 1 && cloud.num_point_sensors == cloud.num_points;
   for (int i = 0; i < cloud.num_points; ++i) {
     const Eigen::Vector3f b(cloud.x[i], cloud.y[i], cloud.z[i]);
     if (!b.allFinite()) {
@@ -40,7 +48,7 @@ int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3
     if (r2 < min_r2) continue;
     // Ground and far returns are not objects, but the space their rays crossed was free: the
     // motion test needs that (a mover's lower half is seen against the ground).
-    f.returns.push_back(w);
+    if (!several || cloud.point_sensor[static_cast<std::size_t>(i)] == 0) f.returns.push_back(w);
     if (r2 > max_r2) continue;
     if (w.z() < p.min_height || w.z() > p.max_height) continue;
     kept.push_back(w);

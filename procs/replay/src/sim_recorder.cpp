@@ -273,7 +273,7 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
   opts.make_packets = true;
   simulator::Simulator sim(config.sim, config.scenario, opts);
   // The driver sees the emulated sensor at 127.0.0.1, as the live process does.
-  lidar_driver::LidarDriverNode driver(config.driver, int64_t{0x7F000001});
+  lidar_driver::LidarDriverNode driver(config.driver);
   for (const auto& [i, d] : config.async_delay_us) {
     if (i >= nodes.size()) throw std::invalid_argument("async_delay_us: no node " + std::to_string(i));
     if (d < config.step_us) throw std::invalid_argument("async_delay_us: delay below step_us for " + nodes[i]->name());

@@ -1,5 +1,7 @@
 #include "ucon/simulator/control_responder.hpp"
 
+#include <algorithm>
+
 namespace ucon {
 namespace simulator {
 
@@ -12,7 +14,9 @@ ControlResponder::ControlResponder(SensorState initial, std::array<uint8_t, 4> s
                                    uint16_t command_port, std::string serial)
     : state_(initial), sensor_ip_(sensor_ip), command_port_(command_port), serial_(std::move(serial)) {}
 
-std::optional<std::vector<uint8_t>> ControlResponder::handle(const uint8_t* data, std::size_t size) {
+std::optional<std::vector<uint8_t>> ControlResponder::handle(const uint8_t* data, std::size_t size,
+                                                            bool* broadcast) {
+  if (broadcast) *broadcast = false;
   ControlFrame req;
   if (livox::decodeControlFrame(data, size, req) != livox::ControlStatus::kOk ||
       req.cmd_type != static_cast<uint8_t>(CommandType::kRequest)) {
@@ -29,13 +33,41 @@ std::optional<std::vector<uint8_t>> ControlResponder::handle(const uint8_t* data
       info.lidar_ip = sensor_ip_;
       info.cmd_port = command_port_;
       ack = livox::makeDiscoveryAck(req.seq, info);
+      if (broadcast) *broadcast = true;
       break;
     }
     case CommandId::kSetKeyValue:
       ack = handleSet(req);
       break;
+    case CommandId::kQuery: {
+      livox::QueryAck q;
+      const auto keys = livox::parseQueryRequest(req);
+      if (!keys) {
+        q.ret_code = 1;
+      } else {
+        for (uint16_t k : *keys) {
+          livox::KeyValue kv{k, {}};
+          switch (static_cast<Key>(k)) {
+            case Key::kSerialNumber:
+              kv.value.assign(16, 0);
+              std::copy(serial_.begin(), serial_.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(16, serial_.size())),
+                        kv.value.begin());
+              break;
+            case Key::kFirmwareVersion: kv.value = {0, 0, 0, 1}; break;  // "0.0.0.1": an emulator
+            case Key::kCurrentWorkState: kv.value = {state_.work_mode}; break;
+            case Key::kTimeSyncType: kv.value = {0}; break;  // never synchronised
+            case Key::kPointDataType: kv.value = {state_.data_type}; break;
+            case Key::kPatternMode: kv.value = {state_.pattern_mode}; break;
+            default: continue;  // not emulated: left out of the answer
+          }
+          q.values.push_back(std::move(kv));
+        }
+      }
+      ack = livox::makeQueryAck(req.seq, q);
+      break;
+    }
     default: {
-      // Query, push, reboot: not emulated. Ack with a non-zero return code so a driver that
+      // Push (sensor to host only), reboot, upgrade: not emulated. Ack with a non-zero return code so a driver that
       // sends them learns it at once instead of timing out.
       ++counters_.unsupported;
       ack.seq = req.seq;
@@ -80,15 +112,26 @@ ControlFrame ControlResponder::handleSet(const ControlFrame& req) {
         }
         break;
       }
-      case Key::kStateInfoHostIpConfig:
-        ok = livox::parseHostIpConfig(kv).has_value();  // push messages are not emulated
+      case Key::kStateInfoHostIpConfig: {
+        const auto c = livox::parseHostIpConfig(kv);  // kept; push messages are not emulated
+        ok = c.has_value();
+        if (ok) {
+          next.push_host_ip = c->host_ip;
+          next.push_host_port = c->host_port;
+        }
         break;
+      }
       case Key::kWorkMode: {
+        // A Mid-360 is set to 0x01 (sampling) or 0x02 (idle) only; 0x03 is not one of its states.
         const auto m = livox::parseWorkMode(kv);
-        ok = m.has_value() && *m >= 0x01 && *m <= 0x03;
+        ok = m.has_value() && livox::isSettableWorkMode(*m);
         if (ok) next.work_mode = *m;
         break;
       }
+      case Key::kPatternMode:
+        ok = kv.value.size() == 1 && kv.value[0] <= 2;
+        if (ok) next.pattern_mode = kv.value[0];
+        break;
       case Key::kPointDataType:
         ok = kv.value.size() == 1 && kv.value[0] >= 1 && kv.value[0] <= 3;
         if (ok) next.data_type = kv.value[0];

@@ -50,6 +50,15 @@ void NetParams::read(ConfigReader& r) {
   if (serial.size() > 16) r.fail("serial", "at most 16 characters");
 }
 
+void ExtraLidarParams::read(ConfigReader& r) {
+  r.read("sensor_ip", sensor_ip);
+  r.read("serial", serial);
+  r.read("mount_xyz", mount_xyz, 3, -10.0, 10.0);
+  r.read("mount_rpy_deg", mount_rpy_deg, 3, -360.0, 360.0);
+  r.read("seed", seed, int64_t{0}, INT64_MAX);
+  if (serial.size() > 16) r.fail("serial", "at most 16 characters");
+}
+
 void SimulatorParams::read(ConfigReader& r) {
   r.read("start_utime", start_utime, int64_t{1}, int64_t{4000000000000000000});
   r.read("frame_rate_hz", frame_rate_hz, 1.0, 100.0);
@@ -62,6 +71,12 @@ void SimulatorParams::read(ConfigReader& r) {
   imu.read(i);
   auto n = r.section("net");
   net.read(n);
+  extra_lidars.clear();
+  for (auto& e : r.sections("extra_lidars")) {
+    extra_lidars.emplace_back();
+    extra_lidars.back().read(e);
+  }
+  if (extra_lidars.size() > 7) r.fail("extra_lidars", "at most 7 (8 sensors in all)");
   auto b = r.section("base");
   base.geometry.read(b);
   base.read(b);
@@ -88,6 +103,12 @@ std::string SimulatorParams::validate() const {
   if (!(pose_rate_hz >= 1.0 && pose_rate_hz <= 1000.0)) return "pose_rate_hz: must be in [1, 1000]";
   const std::string b = base.validate();
   if (!b.empty()) return "base." + b;
+  for (std::size_t i = 0; i < extra_lidars.size(); ++i) {
+    const std::string k = "extra_lidars[" + std::to_string(i) + "].";
+    if (extra_lidars[i].mount_xyz.size() != 3 || extra_lidars[i].mount_rpy_deg.size() != 3)
+      return k + "mount: need 3 values each";
+    if (extra_lidars[i].sensor_ip == net.sensor_ip) return k + "sensor_ip: the same as net.sensor_ip";
+  }
   return "";
 }
 

@@ -67,6 +67,7 @@ Simulator::Simulator(const SimulatorParams& params, world::Scenario scenario, Si
   pts_.resize(livox::kPointsPerPacket);
   cloud_.frame_id = options_.frames_in_base ? "base" : "lidar";
   cloud_.time_sync = point_cloud_t::TIME_NONE;
+  initExtraLidars();
 }
 
 Eigen::Isometry3d Simulator::sensorPose() const {
@@ -111,6 +112,7 @@ void Simulator::advanceTo(int64_t utime, SimOutputs& out) {
       next_imu_ns_ += imu_period_ns_;
     } else {
       emitPacket(t, out);
+      emitExtraPackets(t, out);
       next_point_k_ += livox::kPointsPerPacket;
     }
   }
@@ -164,18 +166,8 @@ void Simulator::emitPacket(int64_t t_ns, SimOutputs& out) {
   lidar_.scan(world_, sensorPose(), next_point_k_, n, pts_.data(), &scan_stats_);
   const uint64_t stamp_ns = static_cast<uint64_t>(params_.start_utime) * 1000ULL + static_cast<uint64_t>(t_ns);
   if (options_.make_packets) {
-    livox::PacketInfo info;
-    info.timestamp_ns = stamp_ns;
-    info.time_interval = static_cast<uint16_t>(n * spacing_ns_ / 100);
-    info.udp_cnt = udp_cnt_;
-    info.frame_cnt = frame_cnt_;
-    info.time_type = livox::TimeType::kNone;
     Datagram d;
-    d.ip = st.point_host_ip;
-    d.port = st.point_host_port;
-    const auto status =
-        livox::encodePointPacket(info, static_cast<livox::DataType>(st.data_type), pts_.data(), n, d.bytes);
-    if (status == livox::EncodeStatus::kOk) {
+    if (makePointDatagram(st, stamp_ns, udp_cnt_, 0, d)) {
       out.point_packets.push_back(std::move(d));
       ++counters_.packets;
       counters_.points += static_cast<int64_t>(n);

@@ -85,7 +85,7 @@ double parseThroughput(const std::vector<std::vector<uint8_t>>& packets, int rep
 // Points/s through the whole node (parse, filter, extrinsic, frames).
 double nodeThroughput(const std::vector<std::vector<uint8_t>>& packets, int reps) {
   ld::DriverParams params;  // defaults: extrinsic applied, range filter on, 50 Hz
-  params.extrinsic.rpy_deg = {180.0, 0.0, 0.0};
+  params.sensors[0].rpy_deg = {180.0, 0.0, 0.0};
   std::vector<double> rates;
   for (int r = 0; r < reps; ++r) {
     ld::LidarDriverNode node(params);
@@ -122,7 +122,7 @@ CpuResult measureCpu(uint16_t port, double seconds) {
   const auto packets = makePackets(packets_total, livox::DataType::kCartesianHigh, 1'000'000'000'000ull);
 
   ld::DriverParams params;
-  params.extrinsic.rpy_deg = {180.0, 0.0, 0.0};
+  params.sensors[0].rpy_deg = {180.0, 0.0, 0.0};
   ld::LidarDriverNode node(params);
   std::atomic<bool> sender_done{false};
   std::atomic<int64_t> sent{0};

@@ -20,10 +20,10 @@ enum class ParseStatus {
   kBadLength,        ///< length field != datagram size, or != 36 + dot_num * record size
                      ///< (IMU: dot_num must be 1)
   kUnknownDataType,  ///< data_type not in 0..3
-  kBadCrc,           ///< crc32 over [28, length) does not match
+  kBadCrc,           ///< never returned by parsePacket (which reports the crc32 in
+                     ///< ParsedPacket::crc); a receiver that drops the packet for it says so
   kNonFinite,        ///< an IMU value is NaN or Inf
-  kBadValue,         ///< timestamp >= 2^62 ns, or a spherical angle out of range
-                     ///< (theta > 180 deg, phi >= 360 deg)
+  kBadValue,         ///< timestamp >= 2^62 ns (sensor times would overflow)
 };
 /// Short snake_case name, e.g. "bad_crc"; usable as a status counter name.
 const char* toString(ParseStatus status);
@@ -38,16 +38,32 @@ struct ParsedPoint {
   uint64_t time_ns = 0;      ///< sensor time of this point [ns]
 };
 
+/// What the header's crc32 field says about the packet. Livox's own SDK and ROS driver never
+/// check this field, so a sensor (or firmware) that leaves it 0 must not lose its data; the
+/// parser only reports it and the receiver decides (see LidarDriverNode).
+enum class CrcCheck : uint8_t {
+  kAbsent,    ///< the field is 0: not filled in
+  kMatch,     ///< CRC-32 over [28, length) equals the field
+  kMismatch,  ///< non-zero and different
+};
+const char* toString(CrcCheck c);
+
 /// A decoded packet. `points` is filled for data types 1-3, `imu` for data type 0.
 struct ParsedPacket {
   PacketHeader header;
   DataType type = DataType::kCartesianHigh;
+  CrcCheck crc = CrcCheck::kAbsent;
   std::vector<ParsedPoint> points;  ///< capacity is reused between calls
+  /// Records that are not a measurement and were left out of `points`: spherical records with
+  /// an angle out of range (theta > 180 deg or phi > 360 deg). Only such a record is lost; the
+  /// rest of the packet is kept. points.size() + bad_points == dot_num.
+  std::size_t bad_points = 0;
   ImuSample imu;                    ///< SI units (acceleration converted from g)
 };
 
 /// Parses one datagram of `size` bytes. On kOk `out` holds the packet; on any other status
-/// `out.points` is empty and the rest of `out` is unspecified.
+/// `out.points` is empty and the rest of `out` is unspecified. A bad crc32 is not a failure
+/// here: it is reported in `out.crc`.
 ParseStatus parsePacket(const uint8_t* data, std::size_t size, ParsedPacket& out);
 
 }  // namespace livox

@@ -1,6 +1,6 @@
 #pragma once
 /// @file point_packet.hpp
-/// Layout of the Mid-360 point-data and IMU packets (Livox SDK2, REFERENCE.md §2) and the
+/// Layout of the Mid-360 point-data and IMU packets (Livox SDK2; docs/reference.md) and the
 /// encoders the simulator uses to emit them. All multi-byte fields are little-endian.
 
 #include <array>
@@ -66,7 +66,24 @@ struct LidarPoint {
   float y = 0;               ///< [m]
   float z = 0;               ///< [m]
   uint8_t reflectivity = 0;  ///< 0..255
-  uint8_t tag = 0;           ///< Livox tag bits; 0 = clean
+  uint8_t tag = 0;           ///< Mid-360 tag (see MidTag); 0 = a normal point
+};
+
+/// The Mid-360's tag byte: three 2-bit fields, each the sensor's confidence that the return is
+/// not a real surface point. 0 is a normal point; 1-3 flag it (a higher value, more confident
+/// for a Mid-360). Bits 6-7 are reserved. (Older Livox sensors used these bits for other
+/// things: return number, intensity-based noise.)
+struct MidTag {
+  /// Bits 0-1: "sticking" (adhesion) between nearby objects: a point between two surfaces.
+  static uint8_t sticking(uint8_t tag) { return tag & 0x3u; }
+  /// Bits 2-3: rain, fog, dust (or other particles in the air).
+  static uint8_t rainFogDust(uint8_t tag) { return (tag >> 2) & 0x3u; }
+  /// Bits 4-5: other noise.
+  static uint8_t otherNoise(uint8_t tag) { return (tag >> 4) & 0x3u; }
+  static uint8_t make(uint8_t sticking, uint8_t rain_fog_dust, uint8_t other_noise) {
+    return static_cast<uint8_t>((sticking & 3u) | ((rain_fog_dust & 3u) << 2) |
+                                ((other_noise & 3u) << 4));
+  }
 };
 
 /// One IMU sample in SI units, sensor frame (the wire format carries acceleration in g).

@@ -21,11 +21,16 @@ class UdpSocket {
   static constexpr int kBatch = 64;
   static constexpr std::size_t kSlotBytes = 2048;
 
-  /// Binds `ip`:`port` (non-blocking). `rcvbuf_bytes` > 0 asks for that SO_RCVBUF; if the
-  /// kernel grants less, `warning` says so and how to raise net.core.rmem_max. Returns nullptr
-  /// and fills `error` (naming the address) on failure.
+  /// Binds `ip`:`port` (non-blocking; "0.0.0.0" = any address, which also receives
+  /// broadcasts). `rcvbuf_bytes` > 0 asks for that SO_RCVBUF; if the kernel grants less,
+  /// `warning` says so and how to raise net.core.rmem_max. `shared` sets SO_REUSEADDR, so that
+  /// a send socket on host_ip:56000 and a broadcast listener on 0.0.0.0:56000 can coexist
+  /// (and two processes on one host can both hear broadcasts). Every datagram carries its
+  /// kernel receive time (SO_TIMESTAMPNS). Returns nullptr and fills `error` (naming the
+  /// address) on failure.
   static std::unique_ptr<UdpSocket> open(const std::string& ip, uint16_t port, int rcvbuf_bytes,
-                                         std::string* error, std::string* warning);
+                                         std::string* error, std::string* warning,
+                                         bool shared = false);
   ~UdpSocket();
   UdpSocket(const UdpSocket&) = delete;
   UdpSocket& operator=(const UdpSocket&) = delete;
@@ -43,6 +48,8 @@ class UdpSocket {
   bool truncated(int i) const { return truncated_[static_cast<std::size_t>(i)]; }
   std::array<uint8_t, 4> sourceIp(int i) const;
   uint16_t sourcePort(int i) const;
+  /// Kernel receive time of datagram i, CLOCK_REALTIME [ns] (0 if the kernel gave none).
+  int64_t receiveTimeNs(int i) const { return stamps_[static_cast<std::size_t>(i)]; }
 
   /// Sends one datagram; false on error.
   bool sendTo(const std::array<uint8_t, 4>& ip, uint16_t port, const uint8_t* data, std::size_t n);
@@ -54,6 +61,8 @@ class UdpSocket {
   std::vector<uint8_t> slots_;
   std::vector<std::size_t> sizes_;
   std::vector<bool> truncated_;
+  std::vector<int64_t> stamps_;
+  std::vector<uint8_t> control_;  // cmsg space per slot
   std::vector<struct sockaddr_storage> addrs_;
   std::vector<struct iovec> iovs_;
   std::vector<struct mmsghdr> msgs_;
@@ -61,6 +70,8 @@ class UdpSocket {
 
 /// Time of the steady clock [s] (process side: retries, idle flush, CPU measurements).
 double monotonicSeconds();
+/// CLOCK_REALTIME [ns] (host time of a datagram when the kernel gave no stamp).
+int64_t realtimeNs();
 
 }  // namespace lidar_driver
 }  // namespace ucon

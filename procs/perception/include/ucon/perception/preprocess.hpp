@@ -24,6 +24,7 @@ struct Frame {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();     ///< robot (base) to world at utime
   Eigen::Vector2d robot_xy = Eigen::Vector2d::Zero();         ///< robot position [m]
   Eigen::Vector3f sensor_origin = Eigen::Vector3f::Zero();    ///< sensor origin, world [m]
+  Eigen::Vector3d sensor_origin_d = Eigen::Vector3d::Zero();  ///< the same in double (static output)
   /// Every return of the newest frame outside the robot's body, ground and far ones included:
   /// the space their rays crossed was free (world [m]).
   Points returns;

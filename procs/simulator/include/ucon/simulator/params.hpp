@@ -54,6 +54,19 @@ struct NetParams {
   void read(ConfigReader& r);
 };
 
+/// A further emulated Mid-360 on the same robot: the optics of `lidar` (rate, ranges, noise,
+/// field of view), its own address, serial and mounting. It sends points only (its IMU is not
+/// emulated; the driver publishes one sensor's IMU and turns the others' off).
+struct ExtraLidarParams {
+  std::string sensor_ip = "127.0.0.2";     ///< its address (bound for its control and data)
+  std::string serial = "SIM360000000002";  ///< <= 16 characters
+  std::vector<double> mount_xyz{0.0, 0.0, 0.5};       ///< [m] origin in the base frame
+  std::vector<double> mount_rpy_deg{0.0, 0.0, 0.0};   ///< [deg] sensor->base roll, pitch, yaw
+  int64_t seed = 2;                        ///< noise seed, >= 0
+
+  void read(ConfigReader& r);
+};
+
 /// Everything the simulator node needs.
 struct SimulatorParams {
   int64_t start_utime = 1000000;      ///< simulation epoch [us] (> 0): utime of simulation time 0
@@ -64,6 +77,7 @@ struct SimulatorParams {
   LidarParams lidar;
   ImuParams imu;
   NetParams net;
+  std::vector<ExtraLidarParams> extra_lidars;  ///< more Mid-360s (0 to 7); empty: one sensor
   /// Section `base`: geometry keys + motor_time_constant, max_wheel_accel; the ucon::mecanum
   /// defaults, except the motor limit of the shipped base.
   mecanum::MecanumPlantParams base = [] {

@@ -40,6 +40,7 @@ struct Datagram {
   std::vector<uint8_t> bytes;
   std::array<uint8_t, 4> ip{{127, 0, 0, 1}};
   uint16_t port = 0;
+  uint8_t sensor = 0;  ///< which emulated Mid-360 sends it: 0 the first, i extra_lidars[i - 1]
 };
 
 /// What advanceTo() produced, in time order per kind.
@@ -97,6 +98,9 @@ class Simulator {
   bool onWheelCmd(const wheel_cmd_t& cmd);
 
   ControlResponder& control() { return control_; }
+  /// Emulated Mid-360s: 1 + params.extra_lidars.size(); control(0) is control().
+  std::size_t sensorCount() const { return 1 + extras_.size(); }
+  ControlResponder& control(std::size_t sensor) { return sensor == 0 ? control_ : extras_[sensor - 1].control; }
   const world::World& world() const { return world_; }
   const mecanum::PlantState& robot() const { return plant_.state(); }
   const SimCounters& counters() const { return counters_; }
@@ -116,6 +120,21 @@ class Simulator {
   void emitGroundTruth(int64_t t_ns, SimOutputs& out);
   void checkCollision(int64_t t_ns);
   void startFrame(int64_t frame_index, SimOutputs& out);
+  // The extra sensors from params.extra_lidars, and the sensor origin of assembled frames
+  // (extra_lidars.cpp).
+  void initExtraLidars();
+  // Point packets of the extra sensors at t_ns (extra_lidars.cpp).
+  void emitExtraPackets(int64_t t_ns, SimOutputs& out);
+  // One point packet of `st`'s configured type to its point host; false if it cannot be encoded.
+  bool makePointDatagram(const SensorState& st, uint64_t stamp_ns, uint16_t udp_cnt, uint8_t sensor,
+                         Datagram& d);
+
+  struct ExtraLidar {
+    LidarEmulator lidar;
+    ControlResponder control;
+    uint16_t udp_cnt = 0;
+    int64_t frame = -1;
+  };
 
   SimulatorParams params_;
   SimOptions options_;
@@ -123,6 +142,7 @@ class Simulator {
   mecanum::MecanumPlant plant_;
   LidarEmulator lidar_;
   ControlResponder control_;
+  std::vector<ExtraLidar> extras_;
   world::Rng imu_rng_;
 
   int64_t spacing_ns_, imu_period_ns_, pose_period_ns_, frame_period_ns_;
@@ -136,7 +156,7 @@ class Simulator {
   uint8_t frame_cnt_ = 0;
   uint16_t udp_cnt_ = 0;
   uint16_t imu_cnt_ = 0;
-  point_cloud_t cloud_;
+  point_cloud_t cloud_{};
   int64_t cloud_seq_ = 0;
 
   Eigen::Vector3d prev_sensor_vel_ = Eigen::Vector3d::Zero();
