@@ -284,12 +284,20 @@ TEST_F(NetnsLink, GivenASensorAnsweringDiscoveryByBroadcastThenTheDriverFindsItS
     EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << readFile(rlog);
   }
   std::size_t same = 0, differ = 0;
+  std::string differing;
   for (const auto& [utime, bytes] : replay.by_utime) {
     const auto it = live.by_utime.find(utime);
     if (it == live.by_utime.end()) continue;
-    (it->second == bytes ? same : differ) += 1;
+    if (it->second == bytes) {
+      ++same;
+    } else {
+      ++differ;
+      differing += " utime " + std::to_string(utime) + " (live " + std::to_string(it->second.size()) + " B, replay " +
+                   std::to_string(bytes.size()) + " B; first live " + std::to_string(live.by_utime.begin()->first) +
+                   ", last live " + std::to_string(live.by_utime.rbegin()->first) + ")";
+    }
   }
-  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(differ, 0u) << differing;
   EXPECT_GE(same, live.by_utime.size() * 95 / 100) << "replayed " << replay.by_utime.size() << ", live "
                                                     << live.by_utime.size();
   EXPECT_GE(static_cast<double>(replay.by_utime.size()), 0.95 * static_cast<double>(live.by_utime.size()));
