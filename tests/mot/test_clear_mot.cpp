@@ -1,4 +1,4 @@
-// CLEAR-MOT on hand-computed sequences (REFERENCE.md §6). Each expected number is derived in
+// CLEAR-MOT on hand-computed sequences (docs/reference.md §6). Each expected number is derived in
 // the comment above its check.
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file kinematics.hpp
 /// Mecanum base kinematics (rollers at 45 degrees, X configuration seen from above;
-/// REFERENCE.md section 7), wheel-speed saturation that keeps the direction of motion, and the
+/// docs/reference.md §7), wheel-speed saturation that keeps the direction of motion, and the
 /// mapping between the canonical wheel order (FL, FR, RL, RR; positive rolls the robot forward)
 /// and the motor channels of a motor board (order and sign from the parameters).
 
@@ -61,7 +61,7 @@ class MecanumKinematics {
  public:
   explicit MecanumKinematics(const MecanumParams& params) : p_(params) {}
 
-  /// Wheel speeds [rad/s] that produce the body twist (REFERENCE.md section 7):
+  /// Wheel speeds [rad/s] that produce the body twist (docs/reference.md §7):
   /// w_FL = (vx - vy - (lx+ly) wz)/r, w_FR = (vx + vy + (lx+ly) wz)/r,
   /// w_RL = (vx + vy - (lx+ly) wz)/r, w_RR = (vx - vy + (lx+ly) wz)/r.
   WheelSpeeds inverse(const BodyTwist& twist) const;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file clear_mot.hpp
 /// CLEAR-MOT multi-object tracking metrics (Bernardin & Stiefelhagen 2008), computed the way
-/// py-motmetrics and TrackEval do (see REFERENCE.md §6):
+/// py-motmetrics and TrackEval do (see docs/reference.md §6):
 ///  - per frame, an object keeps the hypothesis it was matched to at its previous occurrence
 ///    if that pair is still allowed (within the distance threshold);
 ///  - the remaining objects and hypotheses are matched by minimum-cost assignment;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file bench_generator.hpp
 /// The seeded dynamic-obstacle benchmark world `bench:<N_d>:<seed>` (paper Sec. V-C,
-/// REFERENCE.md §8). The paper gives the area, the number of static obstacles and the moving
+/// docs/reference.md §8). The paper gives the area, the number of static obstacles and the moving
 /// obstacles' radius range; the other values below are this project's defaults.
 ///
 /// Layout: bounds [-25, 25] x [-25, 25] m. The robot starts at x = -22 m and its goal is at
