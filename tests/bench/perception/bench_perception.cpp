@@ -291,32 +291,78 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
     for (std::size_t i = 0; i < o.scenes.size(); ++i) js << (i ? ", " : "") << "\"" << o.scenes[i] << "\"";
     js << "], \"heading\": \"" << (o.heading.empty() ? "configured" : o.heading) << "\", \"seeds\": " << o.seeds << ", \"seed_base\": " << o.seed_base << ", \"duration_s\": " << num(o.duration)
        << ", \"threshold_m\": " << num(o.score.threshold_m) << ", \"max_range_m\": " << num(o.score.max_range_m)
-       << ", \"min_visible_points\": " << o.score.min_visible_points << ", \"results\": [";
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const auto& r = rows[i];
+       << ", \"min_visible_points\": " << o.score.min_visible_points;
+    // Medians over seeds per scene and method (the figures of record), the drives, then every
+    // run: flat figures first, the full CLEAR-MOT counts of both scores nested.
+    js << ", \"summary\": [";
+    bool first = true;
+    for (const auto& [key, rs] : by) {
+      std::vector<double> v[12];
+      double worst = INFINITY, vworst = INFINITY;
+      for (const Row* r : rs) {
+        const auto& a = r->score.all;
+        const auto& w = r->score.visible;
+        const double f[12] = {a.mota, static_cast<double>(a.num_switches), a.fn_rate, a.fp_rate, a.motp, w.mota,
+                              static_cast<double>(w.num_switches), w.fn_rate, w.fp_rate,
+                              static_cast<double>(r->score.track_ids), r->score.velocity_error_median,
+                              r->score.latency_median_ms};
+        for (int k = 0; k < 12; ++k) v[k].push_back(f[k]);
+        worst = std::min(worst, a.mota);
+        vworst = std::min(vworst, w.mota);
+      }
+      js << (first ? "\n  " : ",\n  ") << "{\"scene\": \"" << key.first << "\", \"method\": \"" << key.second
+         << "\", \"runs\": " << rs.size() << ", \"mota\": " << num(percentile(v[0], 0.5)) << ", \"mota_min\": "
+         << num(worst) << ", \"idsw\": " << num(percentile(v[1], 0.5)) << ", \"fn_rate\": "
+         << num(percentile(v[2], 0.5)) << ", \"fp_rate\": " << num(percentile(v[3], 0.5)) << ", \"motp\": "
+         << num(percentile(v[4], 0.5)) << ", \"vis_mota\": " << num(percentile(v[5], 0.5)) << ", \"vis_mota_min\": "
+         << num(vworst) << ", \"vis_idsw\": " << num(percentile(v[6], 0.5)) << ", \"vis_fn_rate\": "
+         << num(percentile(v[7], 0.5)) << ", \"vis_fp_rate\": " << num(percentile(v[8], 0.5))
+         << ", \"track_ids\": " << num(percentile(v[9], 0.5)) << ", \"velocity_error_median\": "
+         << num(percentile(v[10], 0.5)) << ", \"latency_ms_median\": " << num(percentile(v[11], 0.5)) << "}";
+      first = false;
+    }
+    js << "], \"drives\": [";
+    first = true;
+    for (const auto& r : rows) {
+      if (r.score.method != o.methods.front()) continue;
       const auto& st = r.stats;
-      char dig[32], odig[32];
+      char dig[32];
       std::snprintf(dig, sizeof(dig), "%016llx", static_cast<unsigned long long>(st.digest));
-      std::snprintf(odig, sizeof(odig), "%016llx", static_cast<unsigned long long>(r.score.output_digest));
-      js << (i ? ",\n  " : "\n  ") << "{\"scene\": \"" << r.scene << "\", \"seed\": " << r.seed << ", \"method\": \""
-         << r.score.method << "\", \"drive\": {\"sim_s\": " << num(st.sim_s) << ", \"path_m\": " << num(st.path_m)
+      js << (first ? "\n  " : ",\n  ") << "{\"scene\": \"" << r.scene << "\", \"seed\": " << r.seed
+         << ", \"sim_s\": " << num(st.sim_s) << ", \"path_m\": " << num(st.path_m)
          << ", \"mean_speed\": " << num(st.mean_speed) << ", \"max_speed\": " << num(st.max_speed)
          << ", \"max_yaw_rate\": " << num(st.max_yaw_rate) << ", \"moving_share\": " << num(st.moving_share)
          << ", \"goals_reached\": " << st.goals_reached << ", \"collisions\": " << st.collisions
-         << ", \"recording_digest\": \"" << dig << "\"}, \"all\": ";
-      mot(js, r.score.all);
-      js << ", \"visible\": ";
-      mot(js, r.score.visible);
-      js << ", \"frames\": " << r.score.frames << ", \"invalid_frames\": " << r.score.invalid_frames
+         << ", \"recording_digest\": \"" << dig << "\"}";
+      first = false;
+    }
+    js << "], \"results\": [";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const auto& r = rows[i];
+      const auto& a = r.score.all;
+      const auto& w = r.score.visible;
+      char odig[32];
+      std::snprintf(odig, sizeof(odig), "%016llx", static_cast<unsigned long long>(r.score.output_digest));
+      js << (i ? ",\n  " : "\n  ") << "{\"scene\": \"" << r.scene << "\", \"seed\": " << r.seed << ", \"method\": \""
+         << r.score.method << "\", \"mota\": " << num(a.mota) << ", \"idsw\": " << a.num_switches
+         << ", \"fn_rate\": " << num(a.fn_rate) << ", \"fp_rate\": " << num(a.fp_rate) << ", \"motp\": " << num(a.motp)
+         << ", \"vis_mota\": " << num(w.mota) << ", \"vis_idsw\": " << w.num_switches
+         << ", \"vis_fn_rate\": " << num(w.fn_rate) << ", \"vis_fp_rate\": " << num(w.fp_rate)
          << ", \"track_ids\": " << r.score.track_ids << ", \"velocity_error_median\": " << num(r.score.velocity_error_median)
          << ", \"velocity_error_p90\": " << num(r.score.velocity_error_p90)
          << ", \"velocity_error_over_0_5\": " << num(r.score.velocity_error_over)
          << ", \"latency_ms_median\": " << num(r.score.latency_median_ms)
-         << ", \"latency_ms_p99\": " << num(r.score.latency_p99_ms) << ", \"objects_digest\": \"" << odig << "\""
+         << ", \"latency_ms_p99\": " << num(r.score.latency_p99_ms)
          << ", \"fp_on_static\": " << r.score.fp_on_static << ", \"fp_near_mover\": " << r.score.fp_near_mover
-         << ", \"fp_elsewhere\": " << r.score.fp_elsewhere << ", \"fp_top_statics\": [";
+         << ", \"fp_elsewhere\": " << r.score.fp_elsewhere << ", \"frames\": " << r.score.frames
+         << ", \"invalid_frames\": " << r.score.invalid_frames << ", \"objects_digest\": \"" << odig << "\", \"all\": ";
+      mot(js, a);
+      js << ", \"visible\": ";
+      mot(js, w);
+      js << ", \"fp_top_statics\": [";
       for (std::size_t j = 0; j < r.top_statics.size(); ++j) js << (j ? ", " : "") << "\"" << r.top_statics[j] << "\"";
-      js << "], \"fp_by_motion\": {\"frames\": [";
+      js << "], \"fp_by_motion\": {\"speed_bins\": [\"v<0.1\", \"v<0.75\", \"v>=0.75\"], \"yaw_rate_bins\": "
+            "[\"w<0.2\", \"w<0.6\", \"w>=0.6\"], \"frames\": [";
       for (int k = 0; k < 9; ++k) js << (k ? ", " : "") << r.score.fp_frames[k / 3][k % 3];
       js << "], \"false_positives\": [";
       for (int k = 0; k < 9; ++k) js << (k ? ", " : "") << r.score.fp_count[k / 3][k % 3];
