@@ -278,9 +278,12 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
               "mover (1.5 m) / elsewhere; the static obstacles with the most:\n",
               o.score.static_fp_distance);
   for (const auto& r : rows) {
-    std::printf("  %-12s %4lld %-14s %6lld / %6lld / %6lld", r.scene.c_str(), static_cast<long long>(r.seed),
-                r.score.method.c_str(), static_cast<long long>(r.score.fp_on_static),
-                static_cast<long long>(r.score.fp_near_mover), static_cast<long long>(r.score.fp_elsewhere));
+    std::printf("  %-12s %4lld %-14s %6lld / %6lld / %6lld; on static: %lld tracks, age %.0f frames, %.2f m/s, "
+                "%.0f %% coasting",
+                r.scene.c_str(), static_cast<long long>(r.seed), r.score.method.c_str(),
+                static_cast<long long>(r.score.fp_on_static), static_cast<long long>(r.score.fp_near_mover),
+                static_cast<long long>(r.score.fp_elsewhere), static_cast<long long>(r.score.fp_static_tracks),
+                r.score.fp_static_age_median, r.score.fp_static_speed_median, 100 * r.score.fp_static_coasting_share);
     for (const auto& n : r.top_statics) std::printf("  [%s]", n.c_str());
     std::printf("\n");
   }
@@ -354,7 +357,11 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
          << ", \"latency_ms_median\": " << num(r.score.latency_median_ms)
          << ", \"latency_ms_p99\": " << num(r.score.latency_p99_ms)
          << ", \"fp_on_static\": " << r.score.fp_on_static << ", \"fp_near_mover\": " << r.score.fp_near_mover
-         << ", \"fp_elsewhere\": " << r.score.fp_elsewhere << ", \"frames\": " << r.score.frames
+         << ", \"fp_elsewhere\": " << r.score.fp_elsewhere << ", \"fp_static_tracks\": " << r.score.fp_static_tracks
+         << ", \"fp_static_age_median\": " << num(r.score.fp_static_age_median)
+         << ", \"fp_static_speed_median\": " << num(r.score.fp_static_speed_median)
+         << ", \"fp_static_coasting_share\": " << num(r.score.fp_static_coasting_share)
+         << ", \"frames\": " << r.score.frames
          << ", \"invalid_frames\": " << r.score.invalid_frames << ", \"objects_digest\": \"" << odig << "\", \"all\": ";
       mot(js, a);
       js << ", \"visible\": ";

@@ -385,6 +385,9 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
     std::vector<double> latency, verr;
     std::set<int64_t> ids;
     int accumulate = 1;
+    std::set<int64_t> static_fp_ids;
+    std::vector<double> static_fp_age, static_fp_speed;
+    int64_t static_fp_coasting = 0;
   };
   std::vector<Run> runs(methods.size());
   for (std::size_t k = 0; k < methods.size(); ++k) {
@@ -447,6 +450,10 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
         if (nearest >= 0) {
           ++r.score.fp_on_static;
           ++r.score.fp_per_static[nearest];
+          r.static_fp_ids.insert(t->id);
+          r.static_fp_age.push_back(t->age_frames);
+          r.static_fp_speed.push_back(std::hypot(t->vx, t->vy));
+          r.static_fp_coasting += t->frames_since_seen > 0;
         } else if (near_mover) {
           ++r.score.fp_near_mover;
         } else {
@@ -508,6 +515,13 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
     r.score.latency_median_ms = percentile(r.latency, 0.5);
     r.score.latency_p99_ms = percentile(r.latency, 0.99);
     r.score.track_ids = static_cast<int64_t>(r.ids.size());
+    r.score.fp_static_tracks = static_cast<int64_t>(r.static_fp_ids.size());
+    if (!r.static_fp_age.empty()) {
+      r.score.fp_static_age_median = percentile(r.static_fp_age, 0.5);
+      r.score.fp_static_speed_median = percentile(r.static_fp_speed, 0.5);
+      r.score.fp_static_coasting_share =
+          static_cast<double>(r.static_fp_coasting) / static_cast<double>(r.static_fp_age.size());
+    }
     if (!r.verr.empty()) {
       r.score.velocity_error_median = percentile(r.verr, 0.5);
       r.score.velocity_error_p90 = percentile(r.verr, 0.9);

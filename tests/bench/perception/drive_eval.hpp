@@ -159,6 +159,13 @@ struct MethodScore {
   /// 1.5 m of a mover (a split, a lagging or a doubled track), else elsewhere.
   int64_t fp_on_static = 0, fp_near_mover = 0, fp_elsewhere = 0;
   std::map<int, int64_t> fp_per_static;
+  /// What the tracks behind the false positives on static structure are: distinct ids, and
+  /// medians over those false positives of the track's age [frames], its reported speed [m/s],
+  /// and the share that was not measured in that frame (coasting on a prediction).
+  int64_t fp_static_tracks = 0;
+  double fp_static_age_median = NAN;
+  double fp_static_speed_median = NAN;
+  double fp_static_coasting_share = NAN;
 };
 
 /// Replays `rec` through a perception node per method (`params` in the same order as
