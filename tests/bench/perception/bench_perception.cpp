@@ -91,6 +91,7 @@ struct DriveOptions {
   int64_t seed_base = 1;
   double duration = 60.0;
   bool quick = false, all_gt = false;
+  bool parked = false;
   std::string save_logs, json, source_dir, heading;
   ucon::bench::ScoreOptions score;
 };
@@ -115,6 +116,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
   dc.perception = perc_params;
   dc.duration_s = o.duration;
   dc.heading_mode = o.heading;
+  dc.parked = o.parked;
   std::string err;
   for (auto [name, text] : {std::pair<const char*, std::string*>{"planner", &dc.planner_yaml},
                             {"base_controller", &dc.base_controller_yaml}}) {
@@ -197,7 +199,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
   const bool vis = !o.all_gt;
   std::printf("\nPerception from a moving robot (--drive, heading %s): %d seed(s) from %lld, %.1f s per drive, "
               "CLEAR-MOT threshold %.2f m, movers within %.1f m scored%s\n",
-              o.heading.empty() ? "as configured" : o.heading.c_str(), o.seeds, static_cast<long long>(o.seed_base),
+              o.parked ? "parked: no route" : o.heading.empty() ? "as configured" : o.heading.c_str(), o.seeds, static_cast<long long>(o.seed_base),
               o.duration, o.score.threshold_m, o.score.max_range_m,
               vis ? ("; 'vis': only movers with >= " + std::to_string(o.score.min_visible_points) +
                      " LiDAR returns in the node's frames")
@@ -292,7 +294,8 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
     std::ofstream js(o.json);
     js << "{\"mode\": \"drive\", \"scenes\": [";
     for (std::size_t i = 0; i < o.scenes.size(); ++i) js << (i ? ", " : "") << "\"" << o.scenes[i] << "\"";
-    js << "], \"heading\": \"" << (o.heading.empty() ? "configured" : o.heading) << "\", \"seeds\": " << o.seeds << ", \"seed_base\": " << o.seed_base << ", \"duration_s\": " << num(o.duration)
+    js << "], \"heading\": \"" << (o.heading.empty() ? "configured" : o.heading)
+       << "\", \"parked\": " << (o.parked ? "true" : "false") << ", \"seeds\": " << o.seeds << ", \"seed_base\": " << o.seed_base << ", \"duration_s\": " << num(o.duration)
        << ", \"threshold_m\": " << num(o.score.threshold_m) << ", \"max_range_m\": " << num(o.score.max_range_m)
        << ", \"min_visible_points\": " << o.score.min_visible_points;
     // Medians over seeds per scene and method (the figures of record), the drives, then every
@@ -385,7 +388,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
     // Sanity for ctest: the robot drove, every method published valid frames, UCON tracked.
     bool ok = true;
     for (const auto& r : rows) {
-      ok = ok && r.stats.path_m > 2.0 && r.score.frames > 0.9 * o.duration * sim_params.frame_rate_hz &&
+      ok = ok && (o.parked || r.stats.path_m > 2.0) && r.score.frames > 0.9 * o.duration * sim_params.frame_rate_hz &&
            r.score.invalid_frames <= 2;
       if (r.score.method == "ucon") ok = ok && r.score.all.num_objects > 0 && r.score.visible.mota > 0.3;
     }
@@ -435,6 +438,10 @@ int main(int argc, char** argv) {
                "takes a comma list (pedestrians, bench:50, bench:80, bench:110, a file); default duration 60 s, "
                "methods ucon,fapp,ucon-noreassoc; both the plain and the visibility-aware score are printed");
   app.add_option("--save-logs", save_logs, "--drive: also write each recording as an LCM log into this folder");
+  bool parked = false;
+  app.add_flag("--parked", parked,
+               "--drive: no route, the robot stays at its start (a control run of the same recording and "
+               "scoring with the sensor parked)");
   std::string heading;
   app.add_option("--heading", heading,
                  "--drive: the base's heading: hold (keeps it, as shipped) or path (faces its velocity: the "
@@ -469,6 +476,7 @@ int main(int argc, char** argv) {
     o.all_gt = all_gt;
     o.save_logs = save_logs;
     o.heading = heading;
+    o.parked = parked;
     o.json = json_path;
     o.source_dir = source_dir;
     o.score.threshold_m = threshold;

@@ -288,8 +288,11 @@ std::optional<Recording> recordDrive(const DriveConfig& config, const world::Sce
   auto controller = std::make_unique<replay::BoundAdapter<base_controller::BoundBaseController>>(
       base_controller::binding(*bc), std::make_unique<base_controller::BoundBaseController>(*bc),
       [](const base_controller::BoundBaseController& n, const replay::FeedCounts&) { return n.node.counters(); });
-  std::vector<Eigen::Vector2d> route = scenario.robot.goals;
-  route.push_back(scenario.robot.start);
+  std::vector<Eigen::Vector2d> route;
+  if (!config.parked) {
+    route = scenario.robot.goals;
+    route.push_back(scenario.robot.start);
+  }
   PatrolAdapter patrol(route, config.goal_tolerance);
   GroundTruthPerception oracle(config.perception);
 

@@ -114,6 +114,9 @@ struct DriveConfig {
   /// omnidirectional base keeps its heading), "path" (it faces its velocity: turns at every
   /// goal and along curves, the sensor turning with it).
   std::string heading_mode;
+  /// No route: the robot stays at its start (the control run: the same recording, scoring and
+  /// methods with the sensor parked).
+  bool parked = false;
 };
 
 /// Records one drive of `scenario`: the route is the scenario's goals and then its start,
