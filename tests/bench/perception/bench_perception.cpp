@@ -5,9 +5,13 @@
 // JSON, and reports per-frame latency (median, p99) of each node.
 //
 //   ucon-bench-perception [--json out.json] [--seeds N] [--seed-base B] [--quick]
+//
+// With --drive the robot drives a planned route through the scene instead (drive_eval.hpp):
+// each seed is recorded once in-process, then replayed through every method and scored.
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +32,7 @@
 #include "ucon/simulator/scenario_loader.hpp"
 #include "ucon/simulator/simulator.hpp"
 #include "../bench_util.hpp"
+#include "drive_eval.hpp"
 
 namespace {
 
@@ -78,6 +83,321 @@ std::string num(double v) {
   return b;
 }
 
+/// Options of --drive.
+struct DriveOptions {
+  std::vector<std::string> scenes;
+  std::vector<std::string> methods;
+  int seeds = 3;
+  int64_t seed_base = 1;
+  double duration = 60.0;
+  bool quick = false, all_gt = false;
+  bool parked = false;
+  std::string save_logs, json, source_dir, heading;
+  ucon::bench::ScoreOptions score;
+};
+
+void mot(std::ostream& js, const ucon::mot::ClearMotSummary& m) {
+  js << "{\"mota\": " << num(m.mota) << ", \"idsw\": " << m.num_switches << ", \"fn_rate\": " << num(m.fn_rate)
+     << ", \"fp_rate\": " << num(m.fp_rate) << ", \"mismatch_rate\": " << num(m.mismatch_rate)
+     << ", \"motp\": " << num(m.motp) << ", \"num_objects\": " << m.num_objects
+     << ", \"num_ignored\": " << m.num_ignored << ", \"false_positives\": " << m.num_false_positives
+     << ", \"misses\": " << m.num_misses << ", \"fragmentations\": " << m.num_fragmentations << "}";
+}
+
+/// `deploy/ucon bench perception --drive`: record each scene and seed once, score each method
+/// by replay (drive_eval.hpp); prints a table per scene and the medians, writes JSON.
+int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_params,
+             const ucon::lidar_driver::DriverParams& drv_params, const ucon::perception::PerceptionParams& perc_params) {
+  namespace b = ucon::bench;
+  const std::string cfg = o.source_dir + "/deploy/config/";
+  b::DriveConfig dc;
+  dc.sim = sim_params;
+  dc.driver = drv_params;
+  dc.perception = perc_params;
+  dc.duration_s = o.duration;
+  dc.heading_mode = o.heading;
+  dc.parked = o.parked;
+  std::string err;
+  for (auto [name, text] : {std::pair<const char*, std::string*>{"planner", &dc.planner_yaml},
+                            {"base_controller", &dc.base_controller_yaml}}) {
+    auto t = ucon::runtime::readTextFile(cfg + name + ".yaml", &err);
+    if (!t) {
+      std::fprintf(stderr, "bench-perception: %s\n", err.c_str());
+      return 2;
+    }
+    *text = *t;
+  }
+  std::vector<ucon::perception::PerceptionParams> params;
+  for (const auto& m : o.methods) params.push_back(*b::methodParams(m, perc_params));
+
+  struct Row {
+    std::vector<std::string> top_statics;  ///< the static obstacles with the most false positives
+    b::DriveStats stats;
+    std::string scene;
+    int64_t seed;
+    b::MethodScore score;
+  };
+  std::vector<Row> rows;
+  for (const std::string& scene : o.scenes) {
+    for (int s = 0; s < o.seeds; ++s) {
+      const int64_t seed = o.seed_base + s;
+      // bench:<N_d> takes the seed as its generator seed; a named scenario as its timeline seed.
+      const bool bench_world = scene.rfind("bench:", 0) == 0;
+      const std::string spec = bench_world ? scene + ":" + std::to_string(seed) : scene;
+      auto sc = ucon::simulator::loadScenario(spec, o.source_dir + "/deploy/scenarios", bench_world ? -1 : seed,
+                                              ucon::runtime::readTextFile, &err);
+      if (!sc) {
+        std::fprintf(stderr, "bench-perception: %s\n", err.c_str());
+        return 2;
+      }
+      if (!o.save_logs.empty()) {
+        std::string f = spec;
+        std::replace(f.begin(), f.end(), ':', '_');
+        std::replace(f.begin(), f.end(), '/', '_');
+        dc.save_log = o.save_logs + "/drive_" + f + "_" + std::to_string(seed) + ".lcm";
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      auto rec = b::recordDrive(dc, *sc, spec, seed, &err);
+      if (!rec) {
+        std::fprintf(stderr, "bench-perception: %s\n", err.c_str());
+        return 2;
+      }
+      const double rec_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const auto& st = rec->stats;
+      std::fprintf(stderr,
+                   "%s seed %lld: drove %.1f m in %.1f s (mean %.2f m/s, max %.2f m/s, max yaw rate %.2f rad/s, "
+                   "moving %.0f %%, %lld goals, %lld collisions), recording %016llx, %.1f s wall\n",
+                   scene.c_str(), static_cast<long long>(seed), st.path_m, st.sim_s, st.mean_speed, st.max_speed,
+                   st.max_yaw_rate, 100 * st.moving_share, static_cast<long long>(st.goals_reached),
+                   static_cast<long long>(st.collisions), static_cast<unsigned long long>(st.digest), rec_s);
+      const auto scores = b::scoreRecording(*rec, o.methods, params, o.score);
+      for (const auto& sc_m : scores) {
+        std::vector<std::pair<int64_t, int>> top;
+        for (const auto& [i, k] : sc_m.fp_per_static) top.emplace_back(-k, i);
+        std::sort(top.begin(), top.end());
+        std::vector<std::string> names;
+        for (std::size_t j = 0; j < top.size() && j < 4; ++j) {
+          const auto& so = rec->scenario.statics[static_cast<std::size_t>(top[j].second)];
+          char buf[160];
+          if (so.kind == ucon::world::ShapeKind::kCylinder)
+            std::snprintf(buf, sizeof(buf), "cylinder r %.2f at (%.1f, %.1f): %lld", so.radius, so.center.x(),
+                          so.center.y(), static_cast<long long>(-top[j].first));
+          else
+            std::snprintf(buf, sizeof(buf), "box %.1fx%.1f at (%.1f, %.1f): %lld", 2 * so.half_size.x(),
+                          2 * so.half_size.y(), so.center.x(), so.center.y(), static_cast<long long>(-top[j].first));
+          names.push_back(buf);
+        }
+        rows.push_back({names, st, scene, seed, sc_m});
+        std::fprintf(stderr, "%s seed %lld %s: MOTA %.2f %% (visible %.2f %%) IDSW %lld, %lld track ids\n",
+                     scene.c_str(), static_cast<long long>(seed), sc_m.method.c_str(), 100 * sc_m.all.mota,
+                     100 * sc_m.visible.mota, static_cast<long long>(sc_m.all.num_switches),
+                     static_cast<long long>(sc_m.track_ids));
+      }
+    }
+  }
+
+  const bool vis = !o.all_gt;
+  std::printf("\nPerception from a moving robot (--drive, heading %s): %d seed(s) from %lld, %.1f s per drive, "
+              "CLEAR-MOT threshold %.2f m, movers within %.1f m scored%s\n",
+              o.parked ? "parked: no route" : o.heading.empty() ? "as configured" : o.heading.c_str(), o.seeds, static_cast<long long>(o.seed_base),
+              o.duration, o.score.threshold_m, o.score.max_range_m,
+              vis ? ("; 'vis': only movers with >= " + std::to_string(o.score.min_visible_points) +
+                     " LiDAR returns in the node's frames")
+                        .c_str()
+                  : "");
+  std::printf("%-12s %4s %-14s %7s %5s %6s %6s %6s %7s %7s %5s %6s %6s %6s %7s %7s %7s %6s\n", "scene", "seed",
+              "method", "MOTA%", "IDSW", "FN%", "FP%", "MOTP_m", "visMOTA", "visIDSW", "visFN", "visFP", "ids",
+              "dv_med", "dv_p90", "dv>0.5", "lat_med", "lat99");
+  for (const auto& r : rows) {
+    const auto& a = r.score.all;
+    const auto& v = r.score.visible;
+    std::printf("%-12s %4lld %-14s %7.2f %5lld %6.2f %6.2f %6.3f ", r.scene.c_str(), static_cast<long long>(r.seed),
+                r.score.method.c_str(), 100 * a.mota, static_cast<long long>(a.num_switches), 100 * a.fn_rate,
+                100 * a.fp_rate, a.motp);
+    if (vis)
+      std::printf("%7.2f %7lld %5.1f %6.2f ", 100 * v.mota, static_cast<long long>(v.num_switches), 100 * v.fn_rate,
+                  100 * v.fp_rate);
+    else
+      std::printf("%7s %7s %5s %6s ", "-", "-", "-", "-");
+    std::printf("%6lld %6.3f %7.3f %6.1f%% %7.3f %6.2f\n", static_cast<long long>(r.score.track_ids),
+                r.score.velocity_error_median, r.score.velocity_error_p90, 100 * r.score.velocity_error_over,
+                r.score.latency_median_ms, r.score.latency_p99_ms);
+  }
+  std::printf("\nmedian over seeds (latency: wall time per frame on this machine, noisy when it is shared):\n");
+  std::map<std::pair<std::string, std::string>, std::vector<const Row*>> by;
+  for (const auto& r : rows) by[{r.scene, r.score.method}].push_back(&r);
+  for (const auto& [key, rs] : by) {
+    std::vector<double> mota, vmota, idsw, vidsw, fn, fp, motp, dv, lat, ids;
+    double worst = INFINITY, vworst = INFINITY;
+    for (const Row* r : rs) {
+      mota.push_back(r->score.all.mota);
+      vmota.push_back(r->score.visible.mota);
+      worst = std::min(worst, r->score.all.mota);
+      vworst = std::min(vworst, r->score.visible.mota);
+      idsw.push_back(static_cast<double>(r->score.all.num_switches));
+      vidsw.push_back(static_cast<double>(r->score.visible.num_switches));
+      fn.push_back(r->score.all.fn_rate);
+      fp.push_back(r->score.all.fp_rate);
+      motp.push_back(r->score.all.motp);
+      dv.push_back(r->score.velocity_error_median);
+      lat.push_back(r->score.latency_median_ms);
+      ids.push_back(static_cast<double>(r->score.track_ids));
+    }
+    std::printf("  %-12s %-14s MOTA %.2f %% (min %.2f)  IDSW %.1f  FN %.2f %%  FP %.2f %%  MOTP %.3f m  track ids %.0f",
+                key.first.c_str(), key.second.c_str(), 100 * percentile(mota, 0.5), 100 * worst,
+                percentile(idsw, 0.5), 100 * percentile(fn, 0.5), 100 * percentile(fp, 0.5), percentile(motp, 0.5),
+                percentile(ids, 0.5));
+    if (vis)
+      std::printf("  | visible: MOTA %.2f %% (min %.2f) IDSW %.1f", 100 * percentile(vmota, 0.5), 100 * vworst,
+                  percentile(vidsw, 0.5));
+    std::printf("  | dv median %.3f m/s  latency median %.3f ms\n", percentile(dv, 0.5), percentile(lat, 0.5));
+  }
+  // Where the false positives come from: visibility-aware FP per frame by the robot's motion.
+  std::printf("\nfalse positives per frame (visibility-aware) by robot speed [m/s] x yaw rate [rad/s], all seeds:\n");
+  const char* sb[3] = {"v<0.1", "v<0.75", "v>=0.75"};
+  const char* yb[3] = {"w<0.2", "w<0.6", "w>=0.6"};
+  std::map<std::pair<std::string, std::string>, std::pair<std::array<int64_t, 9>, std::array<int64_t, 9>>> fpm;
+  for (const auto& r : rows) {
+    auto& e = fpm[{r.scene, r.score.method}];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        e.first[3 * i + j] += r.score.fp_frames[i][j];
+        e.second[3 * i + j] += r.score.fp_count[i][j];
+      }
+  }
+  for (const auto& [key, e] : fpm) {
+    std::printf("  %-12s %-14s", key.first.c_str(), key.second.c_str());
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (e.first[3 * i + j] > 0)
+          std::printf(" %s,%s: %.3f (%lld fr)", sb[i], yb[j],
+                      static_cast<double>(e.second[3 * i + j]) / static_cast<double>(e.first[3 * i + j]),
+                      static_cast<long long>(e.first[3 * i + j]));
+    std::printf("\n");
+  }
+
+  std::printf("\nvisibility-aware false positives: on static structure (within %.1f m of its footprint) / near a "
+              "mover (1.5 m) / elsewhere; the static obstacles with the most:\n",
+              o.score.static_fp_distance);
+  for (const auto& r : rows) {
+    std::printf("  %-12s %4lld %-14s %6lld / %6lld / %6lld; on static: %lld tracks, age %.0f frames, %.2f m/s, "
+                "%.0f %% coasting",
+                r.scene.c_str(), static_cast<long long>(r.seed), r.score.method.c_str(),
+                static_cast<long long>(r.score.fp_on_static), static_cast<long long>(r.score.fp_near_mover),
+                static_cast<long long>(r.score.fp_elsewhere), static_cast<long long>(r.score.fp_static_tracks),
+                r.score.fp_static_age_median, r.score.fp_static_speed_median, 100 * r.score.fp_static_coasting_share);
+    for (const auto& n : r.top_statics) std::printf("  [%s]", n.c_str());
+    std::printf("\n");
+  }
+
+  if (!o.json.empty()) {
+    std::ofstream js(o.json);
+    js << "{\"mode\": \"drive\", \"scenes\": [";
+    for (std::size_t i = 0; i < o.scenes.size(); ++i) js << (i ? ", " : "") << "\"" << o.scenes[i] << "\"";
+    js << "], \"heading\": \"" << (o.heading.empty() ? "configured" : o.heading)
+       << "\", \"parked\": " << (o.parked ? "true" : "false") << ", \"seeds\": " << o.seeds << ", \"seed_base\": " << o.seed_base << ", \"duration_s\": " << num(o.duration)
+       << ", \"threshold_m\": " << num(o.score.threshold_m) << ", \"max_range_m\": " << num(o.score.max_range_m)
+       << ", \"min_visible_points\": " << o.score.min_visible_points;
+    // Medians over seeds per scene and method (the figures of record), the drives, then every
+    // run: flat figures first, the full CLEAR-MOT counts of both scores nested.
+    js << ", \"summary\": [";
+    bool first = true;
+    for (const auto& [key, rs] : by) {
+      std::vector<double> v[12];
+      double worst = INFINITY, vworst = INFINITY;
+      for (const Row* r : rs) {
+        const auto& a = r->score.all;
+        const auto& w = r->score.visible;
+        const double f[12] = {a.mota, static_cast<double>(a.num_switches), a.fn_rate, a.fp_rate, a.motp, w.mota,
+                              static_cast<double>(w.num_switches), w.fn_rate, w.fp_rate,
+                              static_cast<double>(r->score.track_ids), r->score.velocity_error_median,
+                              r->score.latency_median_ms};
+        for (int k = 0; k < 12; ++k) v[k].push_back(f[k]);
+        worst = std::min(worst, a.mota);
+        vworst = std::min(vworst, w.mota);
+      }
+      js << (first ? "\n  " : ",\n  ") << "{\"scene\": \"" << key.first << "\", \"method\": \"" << key.second
+         << "\", \"runs\": " << rs.size() << ", \"mota\": " << num(percentile(v[0], 0.5)) << ", \"mota_min\": "
+         << num(worst) << ", \"idsw\": " << num(percentile(v[1], 0.5)) << ", \"fn_rate\": "
+         << num(percentile(v[2], 0.5)) << ", \"fp_rate\": " << num(percentile(v[3], 0.5)) << ", \"motp\": "
+         << num(percentile(v[4], 0.5)) << ", \"vis_mota\": " << num(percentile(v[5], 0.5)) << ", \"vis_mota_min\": "
+         << num(vworst) << ", \"vis_idsw\": " << num(percentile(v[6], 0.5)) << ", \"vis_fn_rate\": "
+         << num(percentile(v[7], 0.5)) << ", \"vis_fp_rate\": " << num(percentile(v[8], 0.5))
+         << ", \"track_ids\": " << num(percentile(v[9], 0.5)) << ", \"velocity_error_median\": "
+         << num(percentile(v[10], 0.5)) << ", \"latency_ms_median\": " << num(percentile(v[11], 0.5)) << "}";
+      first = false;
+    }
+    js << "], \"drives\": [";
+    first = true;
+    for (const auto& r : rows) {
+      if (r.score.method != o.methods.front()) continue;
+      const auto& st = r.stats;
+      char dig[32];
+      std::snprintf(dig, sizeof(dig), "%016llx", static_cast<unsigned long long>(st.digest));
+      js << (first ? "\n  " : ",\n  ") << "{\"scene\": \"" << r.scene << "\", \"seed\": " << r.seed
+         << ", \"sim_s\": " << num(st.sim_s) << ", \"path_m\": " << num(st.path_m)
+         << ", \"mean_speed\": " << num(st.mean_speed) << ", \"max_speed\": " << num(st.max_speed)
+         << ", \"max_yaw_rate\": " << num(st.max_yaw_rate) << ", \"moving_share\": " << num(st.moving_share)
+         << ", \"goals_reached\": " << st.goals_reached << ", \"collisions\": " << st.collisions
+         << ", \"recording_digest\": \"" << dig << "\"}";
+      first = false;
+    }
+    js << "], \"results\": [";
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const auto& r = rows[i];
+      const auto& a = r.score.all;
+      const auto& w = r.score.visible;
+      char odig[32];
+      std::snprintf(odig, sizeof(odig), "%016llx", static_cast<unsigned long long>(r.score.output_digest));
+      js << (i ? ",\n  " : "\n  ") << "{\"scene\": \"" << r.scene << "\", \"seed\": " << r.seed << ", \"method\": \""
+         << r.score.method << "\", \"mota\": " << num(a.mota) << ", \"idsw\": " << a.num_switches
+         << ", \"fn_rate\": " << num(a.fn_rate) << ", \"fp_rate\": " << num(a.fp_rate) << ", \"motp\": " << num(a.motp)
+         << ", \"vis_mota\": " << num(w.mota) << ", \"vis_idsw\": " << w.num_switches
+         << ", \"vis_fn_rate\": " << num(w.fn_rate) << ", \"vis_fp_rate\": " << num(w.fp_rate)
+         << ", \"track_ids\": " << r.score.track_ids << ", \"velocity_error_median\": " << num(r.score.velocity_error_median)
+         << ", \"velocity_error_p90\": " << num(r.score.velocity_error_p90)
+         << ", \"velocity_error_over_0_5\": " << num(r.score.velocity_error_over)
+         << ", \"latency_ms_median\": " << num(r.score.latency_median_ms)
+         << ", \"latency_ms_p99\": " << num(r.score.latency_p99_ms)
+         << ", \"fp_on_static\": " << r.score.fp_on_static << ", \"fp_near_mover\": " << r.score.fp_near_mover
+         << ", \"fp_elsewhere\": " << r.score.fp_elsewhere << ", \"fp_static_tracks\": " << r.score.fp_static_tracks
+         << ", \"fp_static_age_median\": " << num(r.score.fp_static_age_median)
+         << ", \"fp_static_speed_median\": " << num(r.score.fp_static_speed_median)
+         << ", \"fp_static_coasting_share\": " << num(r.score.fp_static_coasting_share)
+         << ", \"frames\": " << r.score.frames
+         << ", \"invalid_frames\": " << r.score.invalid_frames << ", \"objects_digest\": \"" << odig << "\", \"all\": ";
+      mot(js, a);
+      js << ", \"visible\": ";
+      mot(js, w);
+      js << ", \"fp_top_statics\": [";
+      for (std::size_t j = 0; j < r.top_statics.size(); ++j) js << (j ? ", " : "") << "\"" << r.top_statics[j] << "\"";
+      js << "], \"fp_by_motion\": {\"speed_bins\": [\"v<0.1\", \"v<0.75\", \"v>=0.75\"], \"yaw_rate_bins\": "
+            "[\"w<0.2\", \"w<0.6\", \"w>=0.6\"], \"frames\": [";
+      for (int k = 0; k < 9; ++k) js << (k ? ", " : "") << r.score.fp_frames[k / 3][k % 3];
+      js << "], \"false_positives\": [";
+      for (int k = 0; k < 9; ++k) js << (k ? ", " : "") << r.score.fp_count[k / 3][k % 3];
+      js << "]}}";
+    }
+    js << "\n]}\n";
+    if (!js) {
+      std::fprintf(stderr, "bench-perception: cannot write '%s'\n", o.json.c_str());
+      return 2;
+    }
+  }
+  if (o.quick) {
+    // Sanity for ctest: the robot drove, every method published valid frames, UCON tracked.
+    bool ok = true;
+    for (const auto& r : rows) {
+      ok = ok && (o.parked || r.stats.path_m > 2.0) && r.score.frames > 0.9 * o.duration * sim_params.frame_rate_hz &&
+           r.score.invalid_frames <= 2;
+      if (r.score.method == "ucon") ok = ok && r.score.all.num_objects > 0 && r.score.visible.mota > 0.3;
+    }
+    std::printf("quick sanity: %s\n", ok ? "ok" : "FAILED");
+    return ok ? 0 : 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,11 +430,28 @@ int main(int argc, char** argv) {
                  "a ground-truth object with fewer LiDAR returns in a frame is not scored")
       ->check(CLI::Range(1, 1000));
   app.add_option("--trace", trace_path, "write every FP, FN, identity switch and velocity error above 0.5 m/s to this text file");
+  bool drive = false;
+  std::string save_logs;
+  app.add_flag("--drive", drive,
+               "the robot drives a planned route (the scenario's goals and back, planner and base controller "
+               "on ground truth); each seed is recorded once, then replayed through every method. --scenario "
+               "takes a comma list (pedestrians, bench:50, bench:80, bench:110, a file); default duration 60 s, "
+               "methods ucon,fapp,ucon-noreassoc; both the plain and the visibility-aware score are printed");
+  app.add_option("--save-logs", save_logs, "--drive: also write each recording as an LCM log into this folder");
+  bool parked = false;
+  app.add_flag("--parked", parked,
+               "--drive: no route, the robot stays at its start (a control run of the same recording and "
+               "scoring with the sensor parked)");
+  std::string heading;
+  app.add_option("--heading", heading,
+                 "--drive: the base's heading: hold (keeps it, as shipped) or path (faces its velocity: the "
+                 "sensor turns at every goal and along curves); default as in base_controller.yaml")
+      ->check(CLI::IsMember({"hold", "path"}));
   CLI11_PARSE(app, argc, argv);
   FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
   if (quick) {
     seeds = 1;
-    if (duration <= 0.0) duration = 20.0;
+    if (duration <= 0.0) duration = drive ? 8.0 : 20.0;
   }
 
   const std::string cfg = source_dir + "/deploy/config/";
@@ -126,6 +463,27 @@ int main(int argc, char** argv) {
     sim_params.frame_rate_hz = frame_rate;
     drv_params.frame.rate_hz = frame_rate;
     perc_params.preprocess.accumulate_frames = 1;
+  }
+
+  if (drive) {
+    DriveOptions o;
+    o.scenes = ucon::bench::split(scenario);
+    o.methods = app.count("--methods") ? method_names : std::vector<std::string>{"ucon", "fapp", "ucon-noreassoc"};
+    o.seeds = seeds;
+    o.seed_base = seed_base;
+    o.duration = duration > 0.0 ? duration : 60.0;
+    o.quick = quick;
+    o.all_gt = all_gt;
+    o.save_logs = save_logs;
+    o.heading = heading;
+    o.parked = parked;
+    o.json = json_path;
+    o.source_dir = source_dir;
+    o.score.threshold_m = threshold;
+    o.score.max_range_m = perc_params.preprocess.max_range;
+    o.score.min_visible_points = min_visible;
+    if (!trace_path.empty()) std::fprintf(stderr, "bench-perception: --trace is not supported with --drive (ignored)\n");
+    return runDrive(o, sim_params, drv_params, perc_params);
   }
 
   std::vector<MethodResult> results;

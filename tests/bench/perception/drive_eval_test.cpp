@@ -1,0 +1,291 @@
+// Tests of the --drive perception benchmark's parts (drive_eval.hpp): the per-point pose, the
+// visibility test, visibility-aware scoring, the per-method replay and determinism.
+#include "drive_eval.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ucon/channels.hpp"
+#include "ucon/runtime/config_file.hpp"
+#include "ucon/simulator/scenario_loader.hpp"
+
+namespace {
+
+using ucon::bench::PoseTrack;
+
+constexpr double kPi = 3.14159265358979323846;
+
+ucon::robot_pose_t pose(int64_t utime, double x, double y, double yaw, double vx = 0, double vy = 0, double wz = 0) {
+  ucon::robot_pose_t p{};
+  p.utime = utime;
+  p.valid = true;
+  p.x = x, p.y = y, p.yaw = yaw;
+  p.qw = std::cos(yaw / 2), p.qz = std::sin(yaw / 2);
+  p.vx = vx, p.vy = vy, p.wz = wz;
+  p.cov_size = 0;
+  return p;
+}
+
+ucon::sim_object_t mover(int64_t id, double x, double y, double vx = 0, double vy = 0) {
+  ucon::sim_object_t o{};
+  o.id = id;
+  o.x = x, o.y = y, o.vx = vx, o.vy = vy;
+  o.radius = 0.25;
+  o.height = 1.75;
+  o.visible = NAN;
+  return o;
+}
+
+ucon::sim_ground_truth_t groundTruth(int64_t utime, std::vector<ucon::sim_object_t> objects, double rx = 0,
+                                     double ry = 0) {
+  ucon::sim_ground_truth_t g{};
+  g.utime = utime;
+  g.scenario = "test";
+  g.robot_x = rx, g.robot_y = ry;
+  g.robot_radius = 0.3;
+  g.objects = std::move(objects);
+  g.num_objects = static_cast<int32_t>(g.objects.size());
+  return g;
+}
+
+struct P {
+  float x, y, z;
+  int32_t t_ns = 0;
+};
+
+ucon::point_cloud_t cloud(int64_t utime, int64_t seq, const std::vector<P>& pts) {
+  ucon::point_cloud_t c{};
+  c.utime = utime;
+  c.seq = seq;
+  c.frame_id = "base";
+  c.duration_us = 20000;
+  for (const auto& p : pts) {
+    c.x.push_back(p.x), c.y.push_back(p.y), c.z.push_back(p.z);
+    c.t_offset_ns.push_back(p.t_ns);
+    c.reflectivity.push_back(100);
+    c.tag.push_back(0);
+  }
+  c.num_points = static_cast<int32_t>(pts.size());
+  c.num_sensors = 0;
+  c.num_point_sensors = 0;
+  return c;
+}
+
+template <class M>
+ucon::bench::RecordedEvent event(const std::string& channel, const M& m) {
+  ucon::bench::RecordedEvent e;
+  e.channel = channel;
+  e.data.resize(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(e.data.data(), 0, static_cast<int>(e.data.size()));
+  return e;
+}
+
+std::string source(const std::string& rel) { return std::string(UCON_SOURCE_DIR) + "/" + rel; }
+
+template <class T>
+T config(const std::string& name) {
+  auto p = ucon::runtime::loadConfigFile<T>("test", source("deploy/config/" + name));
+  EXPECT_TRUE(p.has_value()) << name;
+  return p ? *p : T{};
+}
+
+ucon::bench::DriveConfig driveConfig(double duration_s) {
+  ucon::bench::DriveConfig c;
+  c.sim = config<ucon::simulator::SimulatorParams>("simulator.yaml");
+  c.driver = config<ucon::lidar_driver::DriverParams>("lidar_driver.yaml");
+  c.perception = config<ucon::perception::PerceptionParams>("perception.yaml");
+  c.planner_yaml = *ucon::runtime::readTextFile(source("deploy/config/planner.yaml"), nullptr);
+  c.base_controller_yaml = *ucon::runtime::readTextFile(source("deploy/config/base_controller.yaml"), nullptr);
+  c.duration_s = duration_s;
+  return c;
+}
+
+ucon::bench::Recording recordPedestrians(double duration_s, int64_t seed) {
+  std::string err;
+  auto sc = ucon::simulator::loadScenario("pedestrians", source("deploy/scenarios"), seed,
+                                          ucon::runtime::readTextFile, &err);
+  EXPECT_TRUE(sc.has_value()) << err;
+  auto rec = ucon::bench::recordDrive(driveConfig(duration_s), *sc, "pedestrians", seed, &err);
+  EXPECT_TRUE(rec.has_value()) << err;
+  return rec ? *rec : ucon::bench::Recording{};
+}
+
+TEST(DrivePoseTrack, GivenTwoPosesAcrossPiWhenInterpolatedThenYawTakesTheShortArc) {
+  PoseTrack t;
+  ASSERT_TRUE(t.add(pose(1'000'000, 0.0, 0.0, kPi - 0.1)));
+  ASSERT_TRUE(t.add(pose(1'100'000, 1.0, 2.0, -kPi + 0.1)));
+  const auto q = t.at(1'050'000);
+  ASSERT_TRUE(q.has_value());
+  EXPECT_NEAR(q->x, 0.5, 1e-12);
+  EXPECT_NEAR(q->y, 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(q->yaw), kPi, 1e-9);  // through pi, not through 0
+  EXPECT_FALSE(t.add(pose(1'100'000, 9.0, 9.0, 0.0)));  // not newer
+}
+
+TEST(DrivePoseTrack, GivenAPointAfterTheLastPoseWhenAskedThenExtrapolatesWithTheVelocity) {
+  PoseTrack t;
+  ASSERT_TRUE(t.add(pose(2'000'000, 1.0, 1.0, 0.0, 2.0, -1.0, 0.5)));
+  const auto q = t.at(2'100'000);
+  ASSERT_TRUE(q.has_value());
+  EXPECT_NEAR(q->x, 1.2, 1e-12);
+  EXPECT_NEAR(q->y, 0.9, 1e-12);
+  EXPECT_NEAR(q->yaw, 0.05, 1e-12);
+  EXPECT_FALSE(PoseTrack().at(0).has_value());
+}
+
+TEST(DriveVisibility, GivenATurnedRobotWhenPointsHitAMoverThenOnlyThoseOnItsBodyCount) {
+  // Robot at (1, 2) facing +y: body x is world +y. Mover 7 at world (1, 5) = body (3, 0).
+  PoseTrack t;
+  ASSERT_TRUE(t.add(pose(1'000'000, 1.0, 2.0, kPi / 2)));
+  const auto gt = groundTruth(1'000'000, {mover(7, 1.0, 5.0), mover(8, 10.0, 10.0)});
+  const auto c = cloud(1'000'000, 1,
+                       {{2.8f, 0.0f, 1.0f},     // on 7's near face
+                        {2.9f, 0.1f, 0.5f},     // on 7
+                        {2.8f, -0.1f, 1.85f},   // just within height + margin
+                        {3.0f, 0.0f, 2.1f},     // above 7's head
+                        {3.0f, 0.0f, 0.05f},    // ground
+                        {0.0f, 3.0f, 1.0f}});   // world (-2, 2): nothing
+  const auto hits = ucon::bench::returnsOnMovers(c, t, gt);
+  ASSERT_EQ(hits.count(7), 1u);
+  EXPECT_EQ(hits.at(7), 3);
+  EXPECT_EQ(hits.count(8), 0u);
+}
+
+TEST(DriveVisibility, GivenADrivingRobotWhenAPointIsLateInTheFrameThenItIsPlacedAtItsOwnTime) {
+  // The robot drives +x at 2 m/s; a point 3.2 m ahead, 50 ms into the frame, lies at world 3.3:
+  // 0.35 m from a mover's axis at 3.65 (radius 0.25 + margin 0.15 = 0.4: on it). Placed with
+  // the pose of the frame's start it would lie at 3.2, 0.45 m off: not on it.
+  PoseTrack t;
+  ASSERT_TRUE(t.add(pose(1'000'000, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0)));
+  const auto gt = groundTruth(1'000'000, {mover(1, 3.65, 0.0)});
+  auto c = cloud(1'000'000, 1, {{3.2f, 0.0f, 1.0f, 50'000'000}});
+  EXPECT_EQ(ucon::bench::returnsOnMovers(c, t, gt).count(1), 1u);  // 3.3 vs 3.65: 0.35 <= 0.4
+  c.t_offset_ns[0] = 0;
+  EXPECT_EQ(ucon::bench::returnsOnMovers(c, t, gt).count(1), 0u);  // 3.2 vs 3.65: 0.45 > 0.4
+}
+
+TEST(DriveScoring, GivenAMoverTheSensorNeverSeesWhenScoredThenItIsAMissOnlyWithoutVisibility) {
+  // Ten frames of a parked robot: a wall of returns at x = -6, a mover at (5, 0) with no return
+  // on it (hidden). Perception cannot see it: the plain score counts a miss per frame, the
+  // visibility-aware one does not score it at all.
+  ucon::bench::Recording rec;
+  std::vector<P> wall;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 5; ++k) wall.push_back({-6.0f, -3.0f + 0.1f * i, 0.3f + 0.3f * k});
+  for (int f = 0; f < 10; ++f) {
+    const int64_t t = 1'000'000 + f * 20'000;
+    rec.events.push_back(event(ucon::channels::kRobotPose, pose(t, 0, 0, 0)));
+    rec.events.push_back(event(ucon::channels::kSimGroundTruth, groundTruth(t, {mover(3, 5.0, 0.0)})));
+    rec.events.push_back(event(ucon::channels::kLidarPoints, cloud(t, f, wall)));
+  }
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  ucon::bench::ScoreOptions opt;
+  const auto s = ucon::bench::scoreRecording(rec, {"ucon"}, {shipped}, opt);
+  ASSERT_EQ(s.size(), 1u);
+  // One PERCEPTION_OBJECTS per frame, and the node's invalid one after the first pose (no
+  // frame yet), which comes before any ground truth and is not scored.
+  EXPECT_GE(s[0].frames, 10);
+  EXPECT_LE(s[0].frames, 11);
+  EXPECT_EQ(s[0].all.num_objects, 10);
+  EXPECT_EQ(s[0].all.num_misses, 10);
+  EXPECT_EQ(s[0].visible.num_objects, 0);
+  EXPECT_EQ(s[0].visible.num_misses, 0);
+  EXPECT_EQ(s[0].visible.num_ignored, 10);
+
+  // The same mover with returns on its body: now it is scored in both.
+  ucon::bench::Recording seen;
+  for (int f = 0; f < 10; ++f) {
+    const int64_t t = 1'000'000 + f * 20'000;
+    auto pts = wall;
+    for (int k = 0; k < 6; ++k) pts.push_back({4.78f, -0.1f + 0.04f * k, 0.4f + 0.2f * k});
+    seen.events.push_back(event(ucon::channels::kRobotPose, pose(t, 0, 0, 0)));
+    seen.events.push_back(event(ucon::channels::kSimGroundTruth, groundTruth(t, {mover(3, 5.0, 0.0)})));
+    seen.events.push_back(event(ucon::channels::kLidarPoints, cloud(t, f, pts)));
+  }
+  const auto v = ucon::bench::scoreRecording(seen, {"ucon"}, {shipped}, opt);
+  EXPECT_EQ(v[0].all.num_objects, 10);
+  EXPECT_EQ(v[0].visible.num_objects, 10);
+  EXPECT_EQ(v[0].visible.num_ignored, 0);
+}
+
+TEST(DriveMethods, GivenAMethodNameWhenParamsAreMadeThenOnlyItsSwitchDiffers) {
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  const auto u = ucon::bench::methodParams("ucon", shipped);
+  const auto f = ucon::bench::methodParams("fapp", shipped);
+  const auto n = ucon::bench::methodParams("ucon-noreassoc", shipped);
+  ASSERT_TRUE(u && f && n);
+  EXPECT_EQ(u->association, "ucon");
+  EXPECT_TRUE(u->reassociation.enabled);
+  EXPECT_EQ(f->association, "fapp");
+  EXPECT_EQ(n->association, "ucon");
+  EXPECT_FALSE(n->reassociation.enabled);
+  EXPECT_FALSE(ucon::bench::methodParams("oracle", shipped).has_value());
+}
+
+TEST(DriveReplay, GivenARecordedDriveWhenScoredThenEachMethodSeesWhatUconReplayFeedsIt) {
+  const auto rec = recordPedestrians(3.0, 2);
+  ASSERT_FALSE(rec.events.empty());
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  const auto s = ucon::bench::scoreRecording(rec, {"ucon", "fapp"}, {shipped, *ucon::bench::methodParams("fapp", shipped)},
+                                             ucon::bench::ScoreOptions{});
+  ASSERT_EQ(s.size(), 2u);
+  // ucon-replay's adapter, made from the shipped YAML, fed every recorded event in order:
+  // the same PERCEPTION_OBJECTS bytes as the scorer's UCON run.
+  std::string err;
+  auto node = ucon::replay::makeAdapter(
+      "perception", *ucon::runtime::readTextFile(source("deploy/config/perception.yaml"), nullptr), "perception.yaml",
+      &err);
+  ASSERT_TRUE(node) << err;
+  uint64_t h = 1469598103934665603ull;
+  int64_t frames = 0;
+  std::vector<ucon::replay::OutputMessage> outs;
+  for (const auto& e : rec.events) {
+    outs.clear();
+    node->feed(e.channel, e.data.data(), e.data.size(), &outs);
+    for (const auto& o : outs) {
+      if (o.channel != ucon::channels::kPerceptionObjects) continue;
+      ++frames;
+      for (uint8_t b : o.data) h = (h ^ b) * 1099511628211ull;
+    }
+  }
+  EXPECT_GT(frames, 100);
+  EXPECT_EQ(s[0].frames, frames);
+  EXPECT_EQ(s[0].output_digest, h);
+  EXPECT_NE(s[1].output_digest, h);  // the baseline is another method
+  EXPECT_GT(rec.stats.path_m, 0.5);  // the route drove the robot
+}
+
+TEST(DriveDeterminism, GivenTheSameSeedWhenRecordedAndScoredTwiceThenEveryFigureIsTheSame) {
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  const std::vector<std::string> methods{"ucon", "fapp", "ucon-noreassoc"};
+  std::vector<ucon::perception::PerceptionParams> params;
+  for (const auto& m : methods) params.push_back(*ucon::bench::methodParams(m, shipped));
+  const auto a = recordPedestrians(5.0, 1);
+  const auto b = recordPedestrians(5.0, 1);
+  EXPECT_EQ(a.stats.digest, b.stats.digest);
+  EXPECT_EQ(a.events.size(), b.events.size());
+  EXPECT_EQ(a.stats.path_m, b.stats.path_m);
+  EXPECT_GT(a.stats.path_m, 2.0);
+  const auto sa = ucon::bench::scoreRecording(a, methods, params, ucon::bench::ScoreOptions{});
+  const auto sb = ucon::bench::scoreRecording(b, methods, params, ucon::bench::ScoreOptions{});
+  ASSERT_EQ(sa.size(), 3u);
+  ASSERT_EQ(sb.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    SCOPED_TRACE(methods[k]);
+    EXPECT_EQ(sa[k].output_digest, sb[k].output_digest);
+    for (auto [x, y] : {std::pair{sa[k].all, sb[k].all}, std::pair{sa[k].visible, sb[k].visible}}) {
+      EXPECT_EQ(x.num_objects, y.num_objects);
+      EXPECT_EQ(x.num_matches, y.num_matches);
+      EXPECT_EQ(x.num_switches, y.num_switches);
+      EXPECT_EQ(x.num_false_positives, y.num_false_positives);
+      EXPECT_EQ(x.num_misses, y.num_misses);
+      EXPECT_EQ(x.total_distance, y.total_distance);
+    }
+    EXPECT_EQ(sa[k].velocity_error_median, sb[k].velocity_error_median);
+    EXPECT_EQ(sa[k].track_ids, sb[k].track_ids);
+    EXPECT_GT(sa[k].all.num_objects, 0);
+  }
+}
+
+}  // namespace
