@@ -8,7 +8,9 @@
 /// optimiser. Projecting first keeps the transform's cost independent of the band's height;
 /// the distance of a point to the band's obstacles is the 2-D distance to that projection.
 ///
-/// OctoMap and DynamicEDT3D stay inside esdf_map.cpp (pimpl).
+/// OctoMap and DynamicEDT3D stay inside src/ (pimpl): src/leaf_cache.hpp (the 3-D tree and its
+/// leaf cache), src/ray_insertion.hpp (frames into the tree) and src/distance_slice.hpp (the
+/// projection, the distance transform and the slice).
 
 #include <cstdint>
 #include <functional>
