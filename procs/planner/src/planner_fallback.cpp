@@ -119,7 +119,7 @@ trajopt::PlanOutput PlannerNode::planEscape(const StartState& start, trajopt::Pl
 }
 
 void PlannerNode::considerFallback(const trajopt::PlanOutput& po) {
-  if (params_.least_bad_gain_s < 0.0 || po.status != trajopt::PlanStatus::kDynamicCollision) return;
+  if (po.status != trajopt::PlanStatus::kDynamicCollision) return;
   const auto& op = params_.optimizer;
   if (!(po.min_static_clearance >= op.robot_radius)) return;
   if (!(po.max_speed <= op.max_velocity * (1.0 + op.limit_tolerance)) ||

@@ -41,7 +41,7 @@ PlannerNode::PlannerNode(const PlannerParams& params, StatusReport& report)
       // one leaf span more than the map's range around the robot twice over.
       static_age_(params.map.resolution, 0.5, 512),
       field_(std::make_unique<Field>(map_)),
-      optimizer_(params.optimizer, params.kalman) {}
+      optimizer_(params.optimizer, params.prediction.model()) {}
 
 PlannerNode::~PlannerNode() = default;
 
@@ -431,27 +431,10 @@ bool PlannerNode::passedCheck(const trajopt::PlanOutput& po, trajectory::Piecewi
 PlannerOutputs PlannerNode::fallBack(Cycle& cycle, const std::string& why) {
   const int64_t now = cycle.now;
   if (previousStillSafe(cycle)) return keep(cycle, "rejected: " + why, "kept previous plan; new one rejected: " + why);
-  if (params_.evasion.enabled) {
-    const Evasion e = evade(now);
-    if (e.kind == Evasion::kBrake) return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
-    if (e.kind == Evasion::kKeep) return keep(cycle, e.message, e.message);
-    return follow(cycle, e.pp, e.message);
-  }
-  // Braking leaves the robot where it is: when a rejected plan is predicted to reach the
-  // movers clearly later than braking does, following it is the safer choice (the next
-  // cycle replans from there).
-  trajectory::PiecewisePolynomial stop_pp;
-  if (params_.least_bad_gain_s >= 0.0 && fallback_ && stopPolynomial(now, &stop_pp)) {
-    const double t_stop = firstContact(stop_pp, now + int64_t(params_.latency_s * kUsPerS));
-    if (fallback_->contact_s >= t_stop + params_.least_bad_gain_s) {
-      report_.count("least_bad_plans");
-      char buf[160];
-      std::snprintf(buf, sizeof(buf), "least bad: movers predicted within reach after %.2f s, braking %.2f s",
-                    fallback_->contact_s, t_stop);
-      return follow(cycle, fallback_->pp, buf);
-    }
-  }
-  return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
+  const Evasion e = evade(now);
+  if (e.kind == Evasion::kBrake) return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
+  if (e.kind == Evasion::kKeep) return keep(cycle, e.message, e.message);
+  return follow(cycle, e.pp, e.message);
 }
 
 PlannerOutputs PlannerNode::conclude(Cycle& cycle, trajectory_t trajectory) {
