@@ -10,6 +10,7 @@ this page only lays their comments out as tables, so it cannot drift from them. 
 the generator relies on:
   - the comment lines at the top of a file are its introduction;
   - a comment line of the form `# ---- Title ----` starts a part (e.g. the paper's parameters);
+    indented inside a section, it starts a part whose keys stay in that section;
   - `key: value  # comment` is a key; comment-only lines indented past column 0 right after it
     continue its comment; a `key:` without a value opens a section of the keys indented below;
   - `- ` items of a list are numbered: `sensors[0].ip`.
@@ -38,7 +39,7 @@ first, with the paper's value or a note on why the project departs from it.
 """
 
 KEY_RE = re.compile(r"^(\s*)(- )?([A-Za-z_][A-Za-z0-9_]*):\s*(.*)$")
-PART_RE = re.compile(r"^#\s*-{2,}\s*(.*?)\s*-{2,}\s*$")
+PART_RE = re.compile(r"^\s*#\s*-{2,}\s*(.*?)\s*-{2,}\s*$")
 
 
 def split_comment(rest):
@@ -112,7 +113,7 @@ def render_file(path):
             indent += 2
         while stack and stack[-1][0] >= indent:
             stack.pop()
-        parent = ".".join(s for _, s in stack)
+        parent = stack[-1][1] if stack else ""  # the open section's full path
         if is_item:
             list_index[parent] = list_index.get(parent, -1) + 1
         if parent in list_index:

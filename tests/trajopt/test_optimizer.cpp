@@ -237,8 +237,10 @@ TEST(Optimizer, GivenAnUncertainObstacleThenItsPredictedSigmaGrowsAndTheCheckCan
   EXPECT_EQ(predictedPositionSigma(o, kStart + 1'000'000), 0.0);
 
   // A still obstacle 0.65 m beside a straight run along x: its body 0.35 m from the robot's
-  // centre at the closest, more than robot_radius (0.3 m).
+  // centre at the closest, more than robot_radius (0.3 m). First the prediction as it is.
   OptimizerParams p;
+  p.check_uncertainty_k = 0.0;
+  p.check_uncertainty_cap = 0.0;
   const std::vector<PredictedObstacle> obs{obstacle(2, Eigen::Vector2d(1.0, 0.65), Eigen::Vector2d::Zero(), 0.3)};
   EXPECT_EQ(checkTrajectory(straightLine(1.0, 0.0, 2.0), kStart, nullptr, obs, p).status, PlanStatus::kOk);
   // Grown by one sigma (0.1 m now, 0.22 m when passing it at 1 s) it is within reach.

@@ -10,6 +10,7 @@
 #include "ucon/lidar_driver/driver_params.hpp"
 #include "ucon/logger/logger_params.hpp"
 #include "ucon/mission/mission_node.hpp"
+#include "ucon/planner/planner_params.hpp"
 #include "ucon/simulator/params.hpp"
 
 using test_support::ShippedConfig;
@@ -126,6 +127,100 @@ TEST(ShippedConfig, GivenMissionYamlWhenLoadedThenEveryFieldEqualsTheInClassDefa
   c.expect("min_visible", s.min_visible, d.min_visible);
   c.expect("max_gt_lag_s", s.max_gt_lag_s, d.max_gt_lag_s);
   c.expect("settle_s", s.settle_s, d.settle_s);
+  c.expectEveryKeyChecked();
+}
+
+TEST(ShippedConfig, GivenPlannerYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::planner::PlannerParams> c("deploy/config/planner.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::planner::PlannerParams d;
+  c.expect("optimizer.sector.h", s.optimizer.sector.h, d.optimizer.sector.h);
+  c.expect("optimizer.sector.k", s.optimizer.sector.k, d.optimizer.sector.k);
+  c.expect("optimizer.sector.kappa", s.optimizer.sector.kappa, d.optimizer.sector.kappa);
+  c.expect("optimizer.sector.alpha", s.optimizer.sector.alpha, d.optimizer.sector.alpha);
+  c.expect("optimizer.sector.beta", s.optimizer.sector.beta, d.optimizer.sector.beta);
+  c.expect("optimizer.sector.min_speed", s.optimizer.sector.min_speed, d.optimizer.sector.min_speed);
+  c.expect("optimizer.sector.fapp_margin", s.optimizer.sector.fapp_margin, d.optimizer.sector.fapp_margin);
+  c.expect("optimizer.lambda_d", s.optimizer.lambda_d, d.optimizer.lambda_d);
+  c.expect("optimizer.rho", s.optimizer.rho, d.optimizer.rho);
+  c.expect("optimizer.safe_distance", s.optimizer.safe_distance, d.optimizer.safe_distance);
+  c.expect("optimizer.max_velocity", s.optimizer.max_velocity, d.optimizer.max_velocity);
+  c.expect("optimizer.max_acceleration", s.optimizer.max_acceleration, d.optimizer.max_acceleration);
+  c.expect("optimizer.samples_per_piece", s.optimizer.samples_per_piece, d.optimizer.samples_per_piece);
+  c.expect("optimizer.obstacle_model", s.optimizer.obstacle_model, d.optimizer.obstacle_model);
+  c.expect("optimizer.weight_static", s.optimizer.weight_static, d.optimizer.weight_static);
+  c.expect("optimizer.weight_velocity", s.optimizer.weight_velocity, d.optimizer.weight_velocity);
+  c.expect("optimizer.weight_acceleration", s.optimizer.weight_acceleration, d.optimizer.weight_acceleration);
+  c.expect("optimizer.dynamic_horizon", s.optimizer.dynamic_horizon, d.optimizer.dynamic_horizon);
+  c.expect("optimizer.obstacle_corridor", s.optimizer.obstacle_corridor, d.optimizer.obstacle_corridor);
+  c.expect("optimizer.max_iterations", s.optimizer.max_iterations, d.optimizer.max_iterations);
+  c.expect("optimizer.relative_tolerance", s.optimizer.relative_tolerance, d.optimizer.relative_tolerance);
+  c.expect("optimizer.use_time_budget", s.optimizer.use_time_budget, d.optimizer.use_time_budget);
+  c.expect("optimizer.time_budget_ms", s.optimizer.time_budget_ms, d.optimizer.time_budget_ms);
+  c.expect("optimizer.robot_radius", s.optimizer.robot_radius, d.optimizer.robot_radius);
+  c.expect("optimizer.check_step", s.optimizer.check_step, d.optimizer.check_step);
+  c.expect("optimizer.check_horizon", s.optimizer.check_horizon, d.optimizer.check_horizon);
+  c.expect("optimizer.limit_tolerance", s.optimizer.limit_tolerance, d.optimizer.limit_tolerance);
+  c.expect("optimizer.check_uncertainty_k", s.optimizer.check_uncertainty_k, d.optimizer.check_uncertainty_k);
+  c.expect("optimizer.check_uncertainty_cap", s.optimizer.check_uncertainty_cap, d.optimizer.check_uncertainty_cap);
+  c.expect("optimizer.static_escape_s", s.optimizer.static_escape_s, d.optimizer.static_escape_s);
+  c.expect("prediction.accel_psd_xy", s.prediction.accel_psd_xy, d.prediction.accel_psd_xy);
+  c.expect("prediction.accel_psd_z", s.prediction.accel_psd_z, d.prediction.accel_psd_z);
+  c.expect("rate_hz", s.rate_hz, d.rate_hz);
+  c.expect("latency_s", s.latency_s, d.latency_s);
+  c.expect("horizon_length", s.horizon_length, d.horizon_length);
+  c.expect("replan_deviation", s.replan_deviation, d.replan_deviation);
+  c.expect("pose_timeout_s", s.pose_timeout_s, d.pose_timeout_s);
+  c.expect("goal_default_tolerance", s.goal_default_tolerance, d.goal_default_tolerance);
+  c.expect("static_insert_period_s", s.static_insert_period_s, d.static_insert_period_s);
+  c.expect("max_attempts", s.max_attempts, d.max_attempts);
+  c.expect("retry_speed_scale", s.retry_speed_scale, d.retry_speed_scale);
+  c.expect("escape_candidates", s.escape_candidates, d.escape_candidates);
+  c.expect("escape_distance", s.escape_distance, d.escape_distance);
+  c.expect("evasion.directions", s.evasion.directions, d.evasion.directions);
+  c.expect("evasion.run_s", s.evasion.run_s, d.evasion.run_s);
+  c.expect("evasion.horizon_s", s.evasion.horizon_s, d.evasion.horizon_s);
+  c.expect("evasion.step_s", s.evasion.step_s, d.evasion.step_s);
+  c.expect("evasion.reaction_s", s.evasion.reaction_s, d.evasion.reaction_s);
+  c.expect("evasion.gap_cap", s.evasion.gap_cap, d.evasion.gap_cap);
+  c.expect("evasion.uncertainty_k", s.evasion.uncertainty_k, d.evasion.uncertainty_k);
+  c.expect("evasion.mean_weight", s.evasion.mean_weight, d.evasion.mean_weight);
+  c.expect("evasion.goal_weight", s.evasion.goal_weight, d.evasion.goal_weight);
+  c.expect("evasion.keep_margin", s.evasion.keep_margin, d.evasion.keep_margin);
+  c.expect("workspace.x_min", s.workspace.x_min, d.workspace.x_min);
+  c.expect("workspace.x_max", s.workspace.x_max, d.workspace.x_max);
+  c.expect("workspace.y_min", s.workspace.y_min, d.workspace.y_min);
+  c.expect("workspace.y_max", s.workspace.y_max, d.workspace.y_max);
+  c.expect("objects.fallback_position_std", s.objects.fallback_position_std, d.objects.fallback_position_std);
+  c.expect("objects.fallback_velocity_std", s.objects.fallback_velocity_std, d.objects.fallback_velocity_std);
+  c.expect("objects.max_age_s", s.objects.max_age_s, d.objects.max_age_s);
+  c.expect("objects.max_range", s.objects.max_range, d.objects.max_range);
+  c.expect("objects.include_tentative", s.objects.include_tentative, d.objects.include_tentative);
+  c.expect("objects.min_radius", s.objects.min_radius, d.objects.min_radius);
+  c.expect("objects.clear_under_speed", s.objects.clear_under_speed, d.objects.clear_under_speed);
+  c.expect("objects.clear_max_radius", s.objects.clear_max_radius, d.objects.clear_max_radius);
+  c.expect("objects.clear_max_age", s.objects.clear_max_age, d.objects.clear_max_age);
+  c.expect("map.resolution", s.map.resolution, d.map.resolution);
+  c.expect("map.max_range", s.map.max_range, d.map.max_range);
+  c.expect("map.band_z_min", s.map.band_z_min, d.map.band_z_min);
+  c.expect("map.band_z_max", s.map.band_z_max, d.map.band_z_max);
+  c.expect("map.box_half_size", s.map.box_half_size, d.map.box_half_size);
+  c.expect("map.recenter_distance", s.map.recenter_distance, d.map.recenter_distance);
+  c.expect("map.max_distance", s.map.max_distance, d.map.max_distance);
+  c.expect("map.prob_hit", s.map.prob_hit, d.map.prob_hit);
+  c.expect("map.prob_miss", s.map.prob_miss, d.map.prob_miss);
+  c.expect("map.band_only", s.map.band_only, d.map.band_only);
+  c.expect("map.insert_threads", s.map.insert_threads, d.map.insert_threads);
+  c.expect("front_end.inflation", s.front_end.inflation, d.front_end.inflation);
+  c.expect("front_end.hard_clearance", s.front_end.hard_clearance, d.front_end.hard_clearance);
+  c.expect("front_end.soft_cost", s.front_end.soft_cost, d.front_end.soft_cost);
+  c.expect("front_end.window_radius", s.front_end.window_radius, d.front_end.window_radius);
+  c.expect("front_end.max_expansions", s.front_end.max_expansions, d.front_end.max_expansions);
+  c.expect("front_end.piece_length", s.front_end.piece_length, d.front_end.piece_length);
+  c.expect("front_end.max_pieces", s.front_end.max_pieces, d.front_end.max_pieces);
+  c.expect("front_end.guess_speed_ratio", s.front_end.guess_speed_ratio, d.front_end.guess_speed_ratio);
+  c.expect("front_end.guess_accel_ratio", s.front_end.guess_accel_ratio, d.front_end.guess_accel_ratio);
   c.expectEveryKeyChecked();
 }
 

@@ -363,8 +363,11 @@ std::optional<ViewParams> viewParamsFromPlannerYaml(const std::string& yaml, con
   ViewParams p;
   auto optimizer = reader->section("optimizer");
   p.optimizer.read(optimizer);
-  auto kalman_section = reader->section("kalman");
-  p.prediction.read(kalman_section);
+  // planner.yaml `prediction`: the process noise of the planner's constant-velocity prediction
+  // (PredictionParams::model(); the measurement noise is perception's and does not enter it).
+  auto prediction = reader->section("prediction");
+  prediction.read("accel_psd_xy", p.prediction.accel_psd_xy, 1e-9, 1e3);
+  prediction.read("accel_psd_z", p.prediction.accel_psd_z, 1e-9, 1e3);
   auto objects = reader->section("objects");
   objects.read("min_radius", p.min_radius, 0.0, 5.0);
   auto map = reader->section("map");
@@ -378,7 +381,7 @@ std::optional<ViewParams> viewParamsFromPlannerYaml(const std::string& yaml, con
   std::string bad = p.optimizer.validate();
   if (bad.empty()) {
     const std::string k = p.prediction.validate();
-    if (!k.empty()) bad = "kalman." + k;
+    if (!k.empty()) bad = "prediction." + k;
   } else {
     bad = "optimizer." + bad;
   }

@@ -14,7 +14,6 @@ constexpr double kHoldS = 0.5;         // [s] rest held at the end of a manoeuvr
 }  // namespace
 
 void EvasionParams::read(ConfigReader& r) {
-  r.read("enabled", enabled);
   r.read("directions", directions, 4, 64);
   r.read("run_s", run_s, 0.0, 5.0);
   r.read("horizon_s", horizon_s, 0.2, 5.0);

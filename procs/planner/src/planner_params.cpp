@@ -13,6 +13,18 @@ void Workspace::read(ConfigReader& r) {
   if (!(y_max > y_min)) r.fail("y_max", "must be greater than y_min");
 }
 
+void PredictionParams::read(ConfigReader& r) {
+  r.read("accel_psd_xy", accel_psd_xy, 1e-9, 1e3);
+  r.read("accel_psd_z", accel_psd_z, 1e-9, 1e3);
+}
+
+kalman::KalmanParams PredictionParams::model() const {
+  kalman::KalmanParams k;
+  k.accel_psd_xy = accel_psd_xy;
+  k.accel_psd_z = accel_psd_z;
+  return k;
+}
+
 void ObjectParams::read(ConfigReader& r) {
   r.read("fallback_position_std", fallback_position_std, 0.01, 10.0);
   r.read("fallback_velocity_std", fallback_velocity_std, 0.01, 10.0);
@@ -37,15 +49,14 @@ void PlannerParams::read(ConfigReader& r) {
   r.read("retry_speed_scale", retry_speed_scale, 0.1, 1.0);
   r.read("escape_candidates", escape_candidates, 0, 16);
   r.read("escape_distance", escape_distance, 0.5, 10.0);
-  r.read("least_bad_gain_s", least_bad_gain_s, -1.0, 10.0);
   auto ev = r.section("evasion");
   evasion.read(ev);
   auto ws = r.section("workspace");
   workspace.read(ws);
   auto ob = r.section("objects");
   objects.read(ob);
-  auto kf = r.section("kalman");
-  kalman.read(kf);
+  auto pr = r.section("prediction");
+  prediction.read(pr);
   auto mp = r.section("map");
   map.read(mp);
   auto fe = r.section("front_end");

@@ -69,7 +69,11 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
   node.prepareMap(sc.robot.start);
 
   // Trackers: one filter per mover, perfect association (ids from the ground truth).
-  std::vector<kalman::ConstantVelocityKalman> filters(w.numMovers(), kalman::ConstantVelocityKalman(params.kalman));
+  kalman::KalmanParams tracker = params.prediction.model();
+  tracker.position_std = cfg.noise_std;
+  tracker.velocity_std = cfg.tracker_velocity_std;
+  tracker.initial_velocity_std = cfg.tracker_initial_velocity_std;
+  std::vector<kalman::ConstantVelocityKalman> filters(w.numMovers(), kalman::ConstantVelocityKalman(tracker));
   world::Rng noise(world::deriveSeed(cfg.seed, 0x5eed));
 
   const double dt = 1.0 / cfg.observe_hz;

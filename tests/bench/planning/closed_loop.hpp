@@ -23,7 +23,12 @@ struct RunConfig {
   uint64_t seed = 1;
   double timeout_s = 120.0;        ///< run ends unsuccessfully after this much simulated time [s]
   double observe_hz = 50.0;        ///< obstacle observation rate [Hz]
-  double noise_std = 0.05;         ///< centroid noise (1 sigma, per axis) [m]
+  double noise_std = 0.05;         ///< centroid noise (1 sigma, per axis) [m]; also the trackers' position_std
+  /// The trackers that stand in for perception: constant-velocity Kalman filters updated with
+  /// the noisy centroids (position only), their process noise that of the planner's
+  /// prediction model (planner.yaml `prediction`).
+  double tracker_velocity_std = 0.3;         ///< [m/s] (not used by position-only updates)
+  double tracker_initial_velocity_std = 1.0; ///< velocity uncertainty of a new track [m/s]
   double warmup_s = 1.0;           ///< obstacles are tracked this long before the goal is sent [s]
   double goal_tolerance = 0.3;     ///< success radius around the goal [m]
   bool trace = false;              ///< print every plan that did not end OK (diagnosis)

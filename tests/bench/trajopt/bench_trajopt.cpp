@@ -1,9 +1,9 @@
 // Planning-time micro-benchmark of the sector-MINCO optimiser (common/trajopt).
 //
-// World as REFERENCE.md §8: 50 m x 50 m, 160 static discs, N_d moving obstacles with radius
-// 0.2-0.5 m and speed 0.3-1.5 m/s, seeded. Each plan: a 7 m local problem from a random free
-// start towards a random direction, straight-line guess with 5 pieces, obstacles with a
-// typical tracked covariance. The static map is a precomputed 0.1 m grid with bilinear
+// World like the paper's benchmark (Sec. V-C, docs/reference.md §8): 50 m x 50 m, 160 static discs, N_d moving
+// obstacles with radius 0.2-0.5 m and speed 0.3-1.5 m/s, seeded. Each plan: a 7 m local
+// problem from a random free start towards a random direction, straight-line guess with 5
+// pieces, obstacles with a typical tracked covariance. The static map is a precomputed 0.1 m grid with bilinear
 // interpolation (as cheap as the planner's ESDF lookup). Prints medians per model and N_d, and
 // how many results passed the post-check (an open-loop figure, not the paper's η).
 //

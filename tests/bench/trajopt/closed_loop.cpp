@@ -104,8 +104,8 @@ double totalDuration(const ucon::trajectory_t& tr) {
 
 ClosedLoopResult runClosedLoop(unsigned seed, int n_dynamic, const OptimizerParams& params,
                                const ucon::kalman::KalmanParams& filter, bool debug) {
-  // The planner benchmark's world (common/world, REFERENCE.md §8), shifted by +25 m so that
-  // the experiment's grids cover [0, 50]^2.
+  // The planner benchmark's world (common/world's generator, docs/reference.md §8),
+  // shifted by +25 m so that the experiment's grids cover [0, 50]^2.
   const ucon::world::Scenario scenario = ucon::world::generateBench(n_dynamic, seed);
   ucon::world::World world(scenario);
   const Eigen::Vector2d shift(-scenario.bounds.xmin, -scenario.bounds.ymin);

@@ -1,7 +1,8 @@
 #pragma once
 // Closed-loop sanity experiment for tuning the optimiser (not the paper's Table II benchmark,
-// which lives with the planner): a robot crosses a REFERENCE.md §8-like world, obstacles are
-// observed with noise through common/kalman, the optimiser replans at 10 Hz, ideal tracking.
+// which lives with the planner): a robot crosses a world like the paper's Sec. V-C benchmark (docs/reference.md §8),
+// obstacles are observed with noise through common/kalman, the optimiser replans at 10 Hz,
+// ideal tracking.
 
 #include <string>
 

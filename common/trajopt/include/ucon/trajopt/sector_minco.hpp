@@ -58,11 +58,11 @@ struct OptimizerParams {
   double max_acceleration = 2.0; ///< v_2 [m/s^2], > 0
   double rho = 10.0;             ///< time regularisation ρ [1/s], >= 0
   double lambda_d = 5e3;         ///< dynamic-obstacle weight λ_d [-], >= 0
-  double weight_static = 1e6;    ///< static clearance penalty weight (cubic in metres) [-], >= 0
-  double weight_velocity = 1e4;  ///< velocity limit penalty weight (cubic in m^2/s^2) [-], >= 0
-  double weight_acceleration = 1e4; ///< acceleration limit penalty weight (cubic in m^2/s^4) [-], >= 0
+  double weight_static = 1e5;    ///< static clearance penalty weight (cubic in metres) [-], >= 0
+  double weight_velocity = 1e3;  ///< velocity limit penalty weight (cubic in m^2/s^2) [-], >= 0
+  double weight_acceleration = 1e3; ///< acceleration limit penalty weight (cubic in m^2/s^4) [-], >= 0
   int samples_per_piece = 12;    ///< L: penalty samples per piece are L + 1 (trapezoid), 2..100
-  double dynamic_horizon = 3.0;  ///< moving obstacles cost nothing after this time from the start [s], > 0.5
+  double dynamic_horizon = 2.0;  ///< moving obstacles cost nothing after this time from the start [s], > 0.5
   double obstacle_corridor = 3.0; ///< obstacles farther than this (plus their reach) from the initial path are dropped [m], >= 0
   int max_iterations = 200;      ///< cap on objective evaluations, 1..100000
   double relative_tolerance = 1e-5; ///< stop when J improves by less than this fraction, 0..1
@@ -75,10 +75,10 @@ struct OptimizerParams {
   double limit_tolerance = 0.1;  ///< allowed relative excess of |v| and |a| in the check [-], >= 0
   /// In the check, each obstacle body grows by this many standard deviations of its predicted
   /// position (predictedPositionSigma) [-], >= 0 (0: the constant-velocity prediction as it is).
-  double check_uncertainty_k = 0.0;
+  double check_uncertainty_k = 1.0;
   /// ... by at most this much [m], >= 0 (0: no cap). A track seen only once states a velocity
   /// sigma of ~1 m/s, which grows its body by metres within the horizon and stalls the robot.
-  double check_uncertainty_cap = 0.0;
+  double check_uncertainty_cap = 0.25;
   /// A trajectory starting closer to static obstacles than robot_radius (the map's cells are
   /// 0.1 m, and a mover's leaked points can land beside the robot) may stay that close for at
   /// most this long, never closer than it starts, on its way out [s], >= 0 (0: such a start

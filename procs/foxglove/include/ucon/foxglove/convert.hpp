@@ -42,7 +42,7 @@ struct LcmTypeInfo;
 /// around.
 struct ViewParams {
   trajopt::OptimizerParams optimizer;   ///< planner.yaml `optimizer` (sector h, k, kappa, s, model)
-  kalman::KalmanParams prediction;      ///< planner.yaml `kalman`
+  kalman::KalmanParams prediction;      ///< planner.yaml `prediction` (process noise; the rest unused)
   double min_radius = 0.3;              ///< planner.yaml objects.min_radius: smallest body radius [m]
   double map_resolution = 0.1;          ///< planner.yaml map.resolution: static map cell [m]
   double band_z_min = 0.1;              ///< planner.yaml map.band_z_min: static points in the map band [m]

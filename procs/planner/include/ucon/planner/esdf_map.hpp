@@ -8,7 +8,9 @@
 /// optimiser. Projecting first keeps the transform's cost independent of the band's height;
 /// the distance of a point to the band's obstacles is the 2-D distance to that projection.
 ///
-/// OctoMap and DynamicEDT3D stay inside esdf_map.cpp (pimpl).
+/// OctoMap and DynamicEDT3D stay inside src/ (pimpl): src/leaf_cache.hpp (the 3-D tree and its
+/// leaf cache), src/ray_insertion.hpp (frames into the tree) and src/distance_slice.hpp (the
+/// projection, the distance transform and the slice).
 
 #include <cstdint>
 #include <functional>
@@ -30,20 +32,20 @@ struct MapParams {
   double resolution = 0.1;        ///< octree leaf size [m], 0.02..1
   double max_range = 12.0;        ///< rays are cut at this range; beyond it only free space [m], > 0
   double band_z_min = 0.1;        ///< lowest height the robot occupies [m]
-  double band_z_max = 1.0;        ///< highest height the robot occupies [m], > band_z_min
-  double box_half_size = 10.0;    ///< ESDF box half extent in x and y around the robot [m], 1..50
-  double recenter_distance = 3.0; ///< rebuild the box when the robot is this far from its centre [m]
-  double max_distance = 2.0;      ///< distances are clamped at this value [m], > resolution
+  double band_z_max = 0.6;        ///< highest height the robot occupies [m], > band_z_min
+  double box_half_size = 12.0;    ///< ESDF box half extent in x and y around the robot [m], 1..50
+  double recenter_distance = 5.0; ///< rebuild the box when the robot is this far from its centre [m]
+  double max_distance = 1.0;      ///< distances are clamped at this value [m], > resolution
   double prob_hit = 0.7;          ///< OctoMap hit probability, 0.5..1
   double prob_miss = 0.4;         ///< OctoMap miss probability, 0..0.5
   /// Insert only points within one leaf of the height band: higher or lower returns cannot
   /// change the band's occupancy, and the rays to the in-band returns clear its free space.
   /// Cuts the ray-insertion work to the share of returns in the band. false = every point.
-  bool band_only = false;
+  bool band_only = true;
   /// Threads of a band-only insertion, 1 or 2: with 2, a helper thread traces the second
   /// half of the rays while the caller's thread traces and applies the first; the map is the
   /// same either way (the updates are applied in the same order).
-  int insert_threads = 1;
+  int insert_threads = 2;
 
   void read(ConfigReader& r);
   /// Empty when valid, otherwise "<key>: <why>".

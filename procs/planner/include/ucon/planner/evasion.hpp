@@ -30,7 +30,6 @@ namespace ucon::planner {
 
 /// YAML section `evasion` of planner.yaml.
 struct EvasionParams {
-  bool enabled = true;          ///< false: the least-bad rejected plan or braking, by first contact (least_bad_gain_s)
   int directions = 16;          ///< headings of the manoeuvres, 4..64
   double run_s = 1.0;           ///< a manoeuvre holds its velocity this long after the start, then brakes [s]
   double horizon_s = 2.0;       ///< trajectories are scored over this [s] (at rest after their end)

@@ -4,6 +4,7 @@
 /// trajectory out at `rate_hz`. No LCM, no wall clock in decisions (plan timings are measured
 /// with a steady clock and only reported).
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -107,6 +108,7 @@ class PlannerNode {
   /// horizon, limits) of `traj` from `from_utime` on against the current map and obstacles.
   trajopt::SafetyCheck check(const trajectory_t& traj, int64_t from_utime) const;
 
+
  private:
   /// Start of a plan: position, velocity, acceleration at `utime`.
   struct StartState {
@@ -115,10 +117,57 @@ class PlannerNode {
     Eigen::Vector2d v = Eigen::Vector2d::Zero();
     Eigen::Vector2d a = Eigen::Vector2d::Zero();
   };
+  /// One planning cycle under way: when it began and what it reports.
+  struct Cycle {
+    int64_t now = 0;
+    bool unsafe_trigger = false;  ///< the plan being followed became unsafe
+    std::chrono::steady_clock::time_point t_start;  ///< compute-time measurement only
+    PlanInfo info;
+  };
+
+  /// The map as the optimiser's distance field; null until the ESDF was first updated.
+  const trajopt::DistanceField2D* staticField() const;
   PlannerOutputs plan(int64_t now, bool unsafe_trigger);
+  // The steps of plan(), in order (planner_node.cpp).
+  /// Why the inputs cannot be planned with (no fresh pose, no map, stale obstacles), if so.
+  std::optional<PlanResult> missingInput() const;
+  bool goalReached() const;
+  /// The current plan at now + latency when the robot follows it, else the pose.
+  StartState startState(int64_t now);
+  /// Brings the ESDF up to date when the map changed or the robot left the box's centre.
+  void updateMap(const Eigen::Vector2d& start, PlanInfo* info);
+  /// The front end: A* guide path from the start toward the goal.
+  GuidePath searchGuidePath(const Eigen::Vector2d& start, PlanInfo* info) const;
+  /// Why the guide path does not end at the goal (empty when it does); counted on the status.
+  std::string noteOnGuide(const GuidePath& guide);
+  /// Initial guess of optimiser run `attempt` along the guide: 0 nominal, then slower, then
+  /// shorter as well.
+  InitialGuess initialGuess(const GuidePath& guide, const StartState& start, int attempt) const;
+  /// The optimiser's runs toward the goal (max_attempts), then, when none passed and the plan
+  /// being followed is not still safe, short detours (escape_candidates); `note` says when the
+  /// result is a detour.
+  trajopt::PlanOutput optimise(const StartState& start, const GuidePath& guide, Cycle& cycle, std::string* note);
+  /// The plan being followed still passes the check (and did not trigger this cycle).
+  bool previousStillSafe(const Cycle& cycle) const;
+  void reportOptimiserResult(const trajopt::PlanOutput& po, PlanInfo* info);
+  /// The optimiser's result passed its post-check (static clearance, predicted obstacles,
+  /// limits): `pp` is the trajectory to follow. Reports the result either way.
+  bool passedCheck(const trajopt::PlanOutput& po, trajectory::PiecewisePolynomial* pp, PlanInfo* info);
+  // How a cycle ends.
+  PlannerOutputs stop(Cycle& cycle, PlanResult result, const std::string& message);
+  PlannerOutputs follow(Cycle& cycle, const trajectory::PiecewisePolynomial& pp, const std::string& message);
+  /// The current plan goes out again, stamped now: the base controller stops on a trajectory
+  /// older than its watchdog (0.2 s), and a planner that keeps its plan for two cycles in a
+  /// row must not look like a silent one.
+  PlannerOutputs keep(Cycle& cycle, const std::string& info_message, const std::string& message);
+  PlannerOutputs reachGoal(Cycle& cycle);
+  /// Nothing passed the check: keep the previous plan if still safe, else evade or brake.
+  PlannerOutputs fallBack(Cycle& cycle, const std::string& why);
+  PlannerOutputs conclude(Cycle& cycle, trajectory_t trajectory);
+
+  // Fallbacks (planner_fallback.cpp).
   /// Short detours away from the predicted obstacles when nothing toward the goal passed.
   trajopt::PlanOutput planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations);
-  trajectory_t stopTrajectory(int64_t now, int8_t status, const std::string& message);
   /// Nothing passed the check: braking, the plan being followed, the least-bad rejected plan or
   /// an evasive manoeuvre, whichever scores best (evasion.hpp).
   struct Evasion {
@@ -139,6 +188,9 @@ class PlannerNode {
   /// first comes within robot_radius of a predicted obstacle body, over the check horizon;
   /// +inf if it does not.
   double firstContact(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const;
+
+  // Outputs (planner_outputs.cpp).
+  trajectory_t stopTrajectory(int64_t now, int8_t status, const std::string& message);
   trajectory_t finish(const trajectory::PiecewisePolynomial& pp, int64_t now, int8_t status,
                       const std::string& message);
   /// The current plan again (same plan_id and curve), stamped `now` with a new seq and this message.

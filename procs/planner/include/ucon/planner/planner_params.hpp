@@ -23,6 +23,22 @@ struct Workspace {
   bool contains(double x, double y) const { return x >= x_min && x <= x_max && y >= y_min && y <= y_max; }
 };
 
+/// The planner's prediction of an obstacle's covariance to future times, Σ_i(t) of eqs. 6-7
+/// (YAML section `prediction`): the constant-velocity model of eq. 3 with white-acceleration
+/// process noise Q. Only Q matters here (the planner predicts, it does not filter); the
+/// measurement model is perception's (perception.yaml `kalman`).
+struct PredictionParams {
+  /// Acceleration noise density in x and y [m^2/s^3], > 0. Lower than perception's filter
+  /// (0.5), which must follow a mover's turns from one 20 ms frame to the next: predicted
+  /// 2 s ahead, 0.5 grows a sector's radius by k sqrt(q t^3 / 3) = 2.3 m (0.1: 1.0 m) and
+  /// boxes the robot in among dense movers.
+  double accel_psd_xy = 0.1;
+  double accel_psd_z = 0.05;  ///< the same in z [m^2/s^3], > 0 (the planner works in x-y)
+  void read(ConfigReader& r);
+  /// The Kalman model with this process noise (its measurement noise is not used by prediction).
+  kalman::KalmanParams model() const;
+};
+
 /// How tracked objects become the optimiser's obstacles (YAML `objects`).
 struct ObjectParams {
   double fallback_position_std = 0.5;  ///< replaces a NaN / non-PD position covariance (1 sigma) [m]
@@ -32,10 +48,10 @@ struct ObjectParams {
   bool include_tentative = true;       ///< plan around tentative tracks as well
   /// Smallest body radius given to a track [m], >= 0: a box shrunk by partial views (one side,
   /// a few returns) is not the object's size (0 = the box's half diagonal as it is).
-  double min_radius = 0.0;
+  double min_radius = 0.3;
   /// Confirmed tracks at least this fast clear the static map under their body (movers' points
   /// that leaked into PERCEPTION_STATIC are ghost obstacles) [m/s]; 0 = off.
-  double clear_under_speed = 0.0;
+  double clear_under_speed = 0.3;
   double clear_max_radius = 0.6;       ///< ... within at most this radius [m]
   /// ... and only map columns whose current run of static points began at most this long ago
   /// (a ghost the mover has just left; not structure it passes, nor columns without current
@@ -60,16 +76,12 @@ struct PlannerParams {
   double retry_speed_scale = 0.6;     ///< each retry's initial guess is this much slower, 0.1..1
   int escape_candidates = 3;          ///< short detours tried before a stop (0 = brake at once), 0..16
   double escape_distance = 2.5;       ///< length of a detour [m], 0.5..10
-  /// When nothing passed the check, a rejected plan that is free of static collisions and
-  /// within the limits replaces braking if it comes within reach of the predicted obstacles
-  /// at least this much later than braking does [s], 0..10; negative = always brake.
-  double least_bad_gain_s = 0.0;
-  /// Nothing passed the check: braking, the least-bad rejected plan or a manoeuvre by one score
-  /// (YAML `evasion`; when disabled, least_bad_gain_s decides between the first two).
+  /// Nothing passed the check: braking, the plan being followed, the least-bad rejected plan or
+  /// a manoeuvre, by one score (YAML `evasion`).
   EvasionParams evasion;
   Workspace workspace;
   ObjectParams objects;
-  kalman::KalmanParams kalman;        ///< prediction model of obstacle state and covariance
+  PredictionParams prediction;        ///< prediction model of obstacle covariance
   MapParams map;
   FrontEndParams front_end;
   /// Obstacle model (sector | no_uncertainty | fapp), robot radius and limits, weights,

@@ -1,0 +1,220 @@
+#include "metrics.hpp"
+
+#include <cstdio>
+
+#include "ucon/channels.hpp"
+#include "ucon/robot_pose_t.hpp"
+#include "ucon/static_points_t.hpp"
+#include "ucon/trajectory_t.hpp"
+
+namespace ucon::bench::nav {
+
+const char* const kStages[] = {"driver", "perception", "planner", "controller"};
+
+std::vector<std::string> MissionAdapter::inputChannels() const {
+  return {channels::kRobotPose, channels::kSimGroundTruth, channels::kPerceptionObjects, channels::kPerceptionStatic,
+          channels::kPlannerTrajectory};
+}
+
+std::vector<std::string> MissionAdapter::outputChannels() const { return {channels::kNavGoal}; }
+
+rp::FeedResult MissionAdapter::feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                                    std::vector<rp::OutputMessage>* out) {
+  if (channel == channels::kPerceptionObjects) {
+    // Kept only to say, at a collision, whether perception tracked what was hit.
+    if (!collided_ && !rp::decodeExact(data, size, &last_objects_)) return rp::FeedResult::kDecodeError;
+    return rp::FeedResult::kHandled;
+  }
+  if (channel == channels::kPerceptionStatic) {
+    // Kept as bytes (decoded only for a collision report): static points on the mover hit.
+    if (!collided_) last_static_ = std::make_shared<const std::vector<uint8_t>>(data, data + size);
+    return rp::FeedResult::kHandled;
+  }
+  if (channel == channels::kPlannerTrajectory) {
+    trajectory_t t;
+    if (!rp::decodeExact(data, size, &t)) return rp::FeedResult::kDecodeError;
+    if (!collided_) last_plan_ = "plan status " + std::to_string(int(t.status)) + (t.message.empty() ? "" : " (" + t.message + ")");
+    return rp::FeedResult::kHandled;
+  }
+  if (channel == channels::kRobotPose) {
+    robot_pose_t m;
+    if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
+    if (auto g = node_.onPose(m)) {
+      out->push_back(rp::encodeOutput(channels::kNavGoal, *g));
+      ++goals_sent_;
+    }
+    const auto s = node_.summary();
+    reached_all_ = s.goals_total > 0 && s.goals_reached == s.goals_total;
+    return rp::FeedResult::kHandled;
+  }
+  if (channel == channels::kSimGroundTruth) {
+    sim_ground_truth_t m;
+    if (!rp::decodeExact(data, size, &m)) return rp::FeedResult::kDecodeError;
+    onGroundTruth(m);
+    return rp::FeedResult::kHandled;
+  }
+  return rp::FeedResult::kIgnored;
+}
+
+void MissionAdapter::onGroundTruth(const sim_ground_truth_t& m) {
+  node_.onGroundTruth(m);
+  // The last 2 s of ground truth with the tracks of the time, for the collision report.
+  if (!collided_) {
+    recent_.push_back({m, last_objects_, last_plan_, last_static_});
+    if (recent_.size() > 100) recent_.pop_front();
+  }
+  tallyTracking(m);
+  if (!collided_ && (m.collision || m.num_collisions > 0)) reportCollision(m);
+  collided_ = collided_ || m.collision || m.num_collisions > 0;
+}
+
+void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
+  for (const auto& o : m.objects) {
+    if (o.visible <= 0.3 || std::hypot(o.x - m.robot_x, o.y - m.robot_y) > 10.0) continue;  // NaN: not computed
+    ++tracking_.recall_total;
+    const tracked_object_t* near = nullptr;
+    double nd = 0.7;
+    for (const auto& t : last_objects_.objects) {
+      const double d = std::hypot(t.x - o.x, t.y - o.y);
+      if (d < nd) nd = d, near = &t;
+    }
+    if (near) {
+      ++tracking_.recall_hit;
+      // Velocity error of the tracks of movers within 5 m: what the planner predicts with.
+      if (std::hypot(o.x - m.robot_x, o.y - m.robot_y) < 5.0) {
+        tracking_.verr_sum += std::hypot(near->vx - o.vx, near->vy - o.vy);
+        ++tracking_.verr_n;
+        if (near->cov.size() == 36) {  // the velocity block's trace is E|v_err|^2 if the track is right
+          tracking_.verr2_sum += (near->vx - o.vx) * (near->vx - o.vx) + (near->vy - o.vy) * (near->vy - o.vy);
+          tracking_.vvar_sum += near->cov[3 * 6 + 3] + near->cov[4 * 6 + 4];
+        }
+      }
+    }
+  }
+}
+
+void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
+  // What was hit: the nearest mover if the robot touches it, else a static obstacle.
+  double best = INFINITY;
+  const sim_object_t* hit = nullptr;
+  for (const auto& o : m.objects) {
+    const double gap = std::hypot(o.x - m.robot_x, o.y - m.robot_y) - o.radius - m.robot_radius;
+    if (gap < best) {
+      best = gap;
+      hit = &o;
+    }
+  }
+  char buf[256];
+  if (hit && best < 0.05) {
+    // The track nearest to the mover, if any: was it seen, and how well?
+    const tracked_object_t* tr = nullptr;
+    double td = INFINITY;
+    for (const auto& t : last_objects_.objects) {
+      const double d = std::hypot(t.x - hit->x, t.y - hit->y);
+      if (d < td) td = d, tr = &t;
+    }
+    char trk[128];
+    if (tr && td < 1.0)
+      std::snprintf(trk, sizeof(trk), "tracked %.2f m off, v err %.2f m/s, state %d", td,
+                    std::hypot(tr->vx - hit->vx, tr->vy - hit->vy), int(tr->state));
+    else
+      std::snprintf(trk, sizeof(trk), "NOT tracked (nearest track %.1f m)", td);
+    std::snprintf(buf, sizeof(buf), "mover %lld (%.2f m/s, r %.2f) %s; %s", static_cast<long long>(hit->id),
+                  std::hypot(hit->vx, hit->vy), hit->radius, trk, last_plan_.c_str());
+    history_ = moverHistory(hit->id);
+    hit_mover_ = true;
+  } else {
+    std::snprintf(buf, sizeof(buf), "static; %s", last_plan_.c_str());
+  }
+  collision_with_ = buf;
+  robot_speed_at_hit_ = std::hypot(m.robot_vx, m.robot_vy);
+}
+
+std::string MissionAdapter::moverHistory(int64_t id) const {
+  std::string out;
+  for (std::size_t k = 0; k < recent_.size(); k += 12) {
+    const Snapshot& s = recent_[k];
+    const sim_object_t* o = nullptr;
+    for (const auto& c : s.gt.objects)
+      if (c.id == id) o = &c;
+    if (!o) continue;
+    const tracked_object_t* tr = nullptr;
+    double td = INFINITY;
+    for (const auto& t : s.tracks.objects) {
+      const double d = std::hypot(t.x - o->x, t.y - o->y);
+      if (d < td) td = d, tr = &t;
+    }
+    int on_body = 0;  // static points published on the mover's body (a ghost the map keeps)
+    static_points_t statics{};
+    if (s.statics && rp::decodeExact(s.statics->data(), s.statics->size(), &statics))
+      for (int q = 0; q < statics.num_points; ++q)
+        on_body += std::hypot(statics.x[q] - o->x, statics.y[q] - o->y) < o->radius + 0.1 ? 1 : 0;
+    char b[360];
+    const double gap = std::hypot(o->x - s.gt.robot_x, o->y - s.gt.robot_y) - o->radius - s.gt.robot_radius;
+    if (tr && td < 1.5)
+      std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover at (%.2f %.2f) v (%.2f %.2f) r %.2f vis %.2f static %d | track %lld %.2f m off v (%.2f %.2f) r %.2f st %d assoc %d pts %d | %s",
+                    1e-6 * double(recent_.back().gt.utime - s.gt.utime), gap, s.gt.robot_vx, s.gt.robot_vy, o->x, o->y, o->vx, o->vy,
+                    o->radius, o->visible, on_body, static_cast<long long>(tr->id), td, tr->vx, tr->vy,
+                    0.5 * std::hypot(tr->size_x, tr->size_y), int(tr->state),
+                    int(tr->last_association), tr->num_points, s.plan.substr(0, 60).c_str());
+    else
+      std::snprintf(b, sizeof(b), "\n    t-%.2fs gap %.2f m robot v (%.2f %.2f) mover at (%.2f %.2f) v (%.2f %.2f) vis %.2f static %d | no track | %s",
+                    1e-6 * double(recent_.back().gt.utime - s.gt.utime), gap, s.gt.robot_vx, s.gt.robot_vy, o->x, o->y, o->vx, o->vy,
+                    o->visible, on_body, s.plan.substr(0, 60).c_str());
+    out += b;
+  }
+  return out;
+}
+
+
+bool RunResult::pipelineBroken(std::string* why) const {
+  auto count = [&](const char* ch) {
+    auto it = messages.find(ch);
+    return it == messages.end() ? int64_t{0} : it->second;
+  };
+  if (!ok) return *why = error, true;
+  if (count(channels::kLidarPoints) == 0) return *why = "no LIDAR_POINTS frames", true;
+  if (count(channels::kPerceptionObjects) == 0) return *why = "no PERCEPTION_OBJECTS", true;
+  if (count(channels::kPlannerTrajectory) == 0) return *why = "no PLANNER_TRAJECTORY", true;
+  if (wheel_cmds_applied == 0) return *why = "no wheel command reached the plant", true;
+  if (dist_start_goal - dist_left < 1.0) return *why = "the robot did not get 1 m closer to its goal", true;
+  return false;
+}
+
+std::string planTally(const std::vector<std::pair<std::string, int64_t>>& planner_counters) {
+  static const std::map<std::string, std::string> kShown{
+      {"result_kept_previous", "kept"},       {"result_stop_no_feasible", "stop"},
+      {"least_bad_plans", "least_bad"},       {"evasive_plans", "evasive"},
+      {"evasive_manoeuvres", "manoeuvre"},    {"evasion_kept", "evasion_kept"},
+      {"rejected_limit_violation", "rejected_limits"}, {"rejected_dynamic_collision", "rejected_mover"},
+      {"rejected_static_collision", "rejected_static"}};
+  std::string tally;
+  for (const auto& [k, n] : planner_counters) {
+    const auto it = kShown.find(k);
+    if (it != kShown.end() && n > 0) tally += (tally.empty() ? " fallbacks " : " ") + it->second + "=" + std::to_string(n);
+  }
+  return tally;
+}
+
+void Row::add(const RunResult& r) {
+  ++runs;
+  successes += r.success;
+  collisions += r.collision;
+  timeouts += r.timeout;
+  if (r.success) ttg.push_back(r.time_to_goal_s);
+  sim_s += r.sim_s;
+  wall_s += r.wall_s;
+  cpu_s += r.cpu_s;
+  wait_s += r.wait_s;
+  if (r.collision) (r.hit_mover ? hit_mover : hit_static) += 1;
+  if (std::isfinite(r.recall)) recall.push_back(r.recall);
+  if (std::isfinite(r.velocity_error)) verr.push_back(r.velocity_error);
+  if (std::isfinite(r.velocity_error_over_std)) vcons.push_back(r.velocity_error_over_std);
+  for (int k = 0; k < kNumStages; ++k) {
+    samples[k].insert(samples[k].end(), r.stages[k].samples_ms.begin(), r.stages[k].samples_ms.end());
+    stage_total_ms[k] += r.stages[k].total_ms;
+    for (const auto& [ch, ms] : r.stages[k].by_input_ms) by_input_ms[k][ch] += ms;
+  }
+}
+
+}  // namespace ucon::bench::nav

@@ -1,0 +1,135 @@
+#pragma once
+/// @file metrics.hpp
+/// What a bench nav run measures: the mission in the loop (goals out; success, collisions and
+/// what was hit; tracking recall and velocity error against the ground truth), the result of
+/// one run, and the per-density rows of the table.
+
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "probes.hpp"
+#include "ucon/mission/mission_node.hpp"
+#include "ucon/sim_ground_truth_t.hpp"
+#include "ucon/tracked_objects_t.hpp"
+
+namespace ucon::bench::nav {
+
+extern const char* const kStages[];  ///< "driver", "perception", "planner", "controller"
+constexpr int kNumStages = 4;
+
+/// The tracking quality near the robot, summed over a run's ground-truth steps.
+struct TrackingTally {
+  int64_t recall_total = 0, recall_hit = 0;  ///< visible movers within 10 m; those with a track within 0.7 m
+  double verr_sum = 0.0;                     ///< Σ |v_track - v_mover| of the tracked movers within 5 m [m/s]
+  int64_t verr_n = 0;
+  double verr2_sum = 0.0, vvar_sum = 0.0;    ///< Σ |v error|^2 and Σ the trace of the stated velocity covariance
+  double recall() const { return recall_total ? double(recall_hit) / double(recall_total) : NAN; }
+  double velocityError() const { return verr_n ? verr_sum / double(verr_n) : NAN; }
+  double velocityErrorOverStd() const { return vvar_sum > 0.0 ? std::sqrt(verr2_sum / vvar_sum) : NAN; }
+};
+
+/// The mission in the loop: ROBOT_POSE and SIM_GROUND_TRUTH in, NAV_GOAL out (the scenario's
+/// goals in order, re-sent every resend_period_s until reached, as ucon-mission does). Also
+/// tallies the tracking quality and, at the first collision, reports what was hit.
+class MissionAdapter : public rp::NodeAdapter {
+ public:
+  MissionAdapter(const mission::MissionParams& p, std::vector<Eigen::Vector2d> goals, double timeout_s)
+      : node_(p, std::move(goals), timeout_s) {}
+
+  std::string name() const override { return "mission"; }
+  std::vector<std::string> inputChannels() const override;
+  std::vector<std::string> outputChannels() const override;
+  std::vector<std::pair<std::string, int64_t>> counters() const override { return {{"goals_sent", goals_sent_}}; }
+  rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                      std::vector<rp::OutputMessage>* out) override;
+
+  bool reachedAll() const { return reached_all_; }
+  bool collided() const { return collided_; }
+  /// "mover <id> (...) ...; <plan>" or "static; <plan>", then the mover's history before the hit.
+  const std::string& collisionWith() const { return collision_with_; }
+  const std::string& history() const { return history_; }
+  bool hitMover() const { return hit_mover_; }
+  double robotSpeedAtHit() const { return robot_speed_at_hit_; }
+  bool timedOut() const { return node_.done() && !reached_all_; }
+  mission::MissionSummary summary() const { return node_.summary(); }
+  const TrackingTally& tracking() const { return tracking_; }
+
+ private:
+  void onGroundTruth(const sim_ground_truth_t& m);
+  void tallyTracking(const sim_ground_truth_t& m);
+  void reportCollision(const sim_ground_truth_t& m);
+  /// One line per 0.25 s before the hit: the mover and robot as they were, the nearest track.
+  std::string moverHistory(int64_t id) const;
+
+  mission::MissionNode node_;
+  bool reached_all_ = false, collided_ = false, hit_mover_ = false;
+  TrackingTally tracking_;
+  std::string collision_with_;
+  tracked_objects_t last_objects_;
+  std::string last_plan_;
+  struct Snapshot {
+    sim_ground_truth_t gt;
+    tracked_objects_t tracks;
+    std::string plan;
+    std::shared_ptr<const std::vector<uint8_t>> statics;  ///< PERCEPTION_STATIC as published
+  };
+  std::shared_ptr<const std::vector<uint8_t>> last_static_;
+  std::deque<Snapshot> recent_;
+  std::string history_;
+  double robot_speed_at_hit_ = NAN;
+  int64_t goals_sent_ = 0;
+};
+
+/// One run of one world.
+struct RunResult {
+  int n_dynamic = 0;
+  uint64_t seed = 0;
+  bool ok = false;  ///< the run could be set up
+  std::string error;
+  bool success = false, collision = false, timeout = false;
+  double time_to_goal_s = NAN;
+  double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0;
+  double wait_s = 0.0;  ///< wall time the loop's thread waited for the worker threads (pipelined)
+  double min_clearance = NAN;
+  std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
+  bool hit_mover = false;
+  std::string plan_tally;  ///< " fallbacks k=n ...": the planner's counters of what it did when a plan failed its check
+  double robot_speed_at_hit = NAN;
+  double dist_start_goal = 0.0, dist_left = 0.0;
+  std::map<std::string, int64_t> messages;
+  int64_t wheel_cmds_applied = 0;
+  int64_t leaked_static = 0, static_points = 0;
+  double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
+  double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
+  double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
+  StageTimes stages[kNumStages];
+  /// True (and why) when the run shows that the pipeline itself is broken.
+  bool pipelineBroken(std::string* why) const;
+};
+
+/// The planner's counters of what it did when a plan failed its check, as " fallbacks k=n ...".
+std::string planTally(const std::vector<std::pair<std::string, int64_t>>& planner_counters);
+
+/// One density's runs together (a line of the table).
+struct Row {
+  int n_dynamic = 0;
+  int runs = 0, successes = 0, collisions = 0, timeouts = 0;
+  std::vector<double> ttg;
+  double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
+  int hit_mover = 0, hit_static = 0;
+  std::vector<double> recall, verr, vcons;  // per run
+  std::vector<double> samples[kNumStages];
+  double stage_total_ms[kNumStages] = {0, 0, 0, 0};
+  std::map<std::string, double> by_input_ms[kNumStages];
+  void add(const RunResult& r);
+};
+
+}  // namespace ucon::bench::nav

@@ -1,0 +1,141 @@
+#include "probes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "ucon/channels.hpp"
+#include "ucon/perception/outputs.hpp"
+
+namespace ucon::bench::nav {
+
+rp::FeedResult TimedAdapter::feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                                  std::vector<rp::OutputMessage>* out) {
+  const std::size_t before = out->size();
+  const auto t0 = Clock::now();
+  const rp::FeedResult r = inner_->feed(channel, data, size, out);
+  const double ms = msSince(t0);
+  times_->total_ms += ms;
+  times_->by_input_ms[channel] += ms;
+  bool unit = on_input_ && channel == unit_;
+  for (std::size_t i = before; !on_input_ && i < out->size(); ++i) unit = unit || (*out)[i].channel == unit_;
+  if (unit) times_->samples_ms.push_back(ms);
+  return r;
+}
+
+// ---- Ground-truth movers as perception's track messages (--oracle-objects) ----
+
+tracked_objects_t oracleObjects(const sim_ground_truth_t& g, double range, int64_t seq) {
+  std::vector<tracked_object_t> objects;
+  for (const auto& s : g.objects) {
+    if (std::hypot(s.x - g.robot_x, s.y - g.robot_y) > range) continue;
+    perception::ObjectEstimate e;  // confirmed, measured at object level
+    e.id = s.id;
+    e.x << s.x, s.y, 0.5 * s.height, s.vx, s.vy, 0.0;
+    e.P.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
+    e.size << 2.0 * s.radius, 2.0 * s.radius, s.height;
+    e.num_points = 10;
+    e.age_frames = 100;
+    objects.push_back(perception::toMessage(e));
+  }
+  return perception::objectsMessage(g.utime, seq, -1, std::move(objects));
+}
+
+// ---- The perception probe ----
+
+std::vector<std::string> PerceptionProbe::inputChannels() const {
+  auto v = inner_->inputChannels();
+  v.push_back(channels::kSimGroundTruth);
+  return v;
+}
+
+rp::FeedResult PerceptionProbe::feed(const std::string& channel, const uint8_t* data, std::size_t size,
+                                     std::vector<rp::OutputMessage>* out) {
+  if (channel != channels::kSimGroundTruth) {
+    const std::size_t before = out->size();
+    const rp::FeedResult r = inner_->feed(channel, data, size, out);
+    probeOutputs(out, before);
+    return r;
+  }
+  sim_ground_truth_t& g = last_gt_;
+  if (!rp::decodeExact(data, size, &g)) return rp::FeedResult::kDecodeError;
+  if (!oracle_.objects) return rp::FeedResult::kHandled;
+  out->push_back(rp::encodeOutput(channels::kPerceptionObjects, oracleObjects(g, range_, seq_++)));
+  return rp::FeedResult::kHandled;
+}
+
+void PerceptionProbe::probeOutputs(std::vector<rp::OutputMessage>* out, std::size_t before) {
+  if (oracle_.objects)
+    out->erase(std::remove_if(out->begin() + static_cast<std::ptrdiff_t>(before), out->end(),
+                              [](const rp::OutputMessage& m) { return m.channel == channels::kPerceptionObjects; }),
+               out->end());
+  for (std::size_t i = before; i < out->size(); ++i) {
+    auto& m = (*out)[i];
+    if (oracle_.velocity && m.channel == channels::kPerceptionObjects) {
+      tracked_objects_t o;
+      if (!rp::decodeExact(m.data.data(), m.data.size(), &o)) continue;
+      for (auto& t : o.objects) {
+        const sim_object_t* best = nullptr;
+        double best_d = 0.8;
+        for (const auto& g : last_gt_.objects) {
+          const double d = std::hypot(g.x - t.x, g.y - t.y);
+          if (d < best_d) best_d = d, best = &g;
+        }
+        if (best != nullptr) t.vx = best->vx, t.vy = best->vy;
+      }
+      m = rp::encodeOutput(channels::kPerceptionObjects, o);
+      continue;
+    }
+    if (m.channel != channels::kPerceptionStatic || last_gt_.objects.empty()) continue;
+    static_points_t s;
+    if (!rp::decodeExact(m.data.data(), m.data.size(), &s)) continue;
+    countLeak(s);
+    if (oracle_.static_map) {
+      static_points_t c = s;
+      c.x.clear(), c.y.clear(), c.z.clear();
+      for (int k = 0; k < s.num_points; ++k) {
+        bool near = false;
+        for (const auto& g : last_gt_.objects) near = near || std::hypot(s.x[k] - g.x, s.y[k] - g.y) < g.radius + 0.25;
+        if (near) continue;
+        c.x.push_back(s.x[k]), c.y.push_back(s.y[k]), c.z.push_back(s.z[k]);
+      }
+      c.num_points = static_cast<int32_t>(c.x.size());
+      m = rp::encodeOutput(channels::kPerceptionStatic, c);
+    }
+  }
+}
+
+void PerceptionProbe::countLeak(const static_points_t& s) {
+  // Leak: static points on a mover's body (within 0.1 m of its surface), movers within 15 m of
+  // the robot. Each such point paints a ghost obstacle into the planner's map. Squared
+  // distances, movers first cut to the cloud's bounding box: this probe runs on perception's
+  // thread and must not slow the pipeline down.
+  float x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (int k = 0; k < s.num_points; ++k) {
+    x0 = std::min(x0, s.x[k]), x1 = std::max(x1, s.x[k]);
+    y0 = std::min(y0, s.y[k]), y1 = std::max(y1, s.y[k]);
+  }
+  struct Disc {
+    float x, y, r2;
+  };
+  std::vector<Disc> near_movers;
+  for (const auto& g : last_gt_.objects) {
+    const float reach = static_cast<float>(g.radius + 0.1);
+    if (std::hypot(g.x - last_gt_.robot_x, g.y - last_gt_.robot_y) >= 15.0 || g.x + reach < x0 || g.x - reach > x1 ||
+        g.y + reach < y0 || g.y - reach > y1)
+      continue;
+    near_movers.push_back({static_cast<float>(g.x), static_cast<float>(g.y), reach * reach});
+  }
+  for (int k = 0; k < s.num_points && !near_movers.empty(); ++k)
+    for (const auto& g : near_movers) {
+      const float dx = s.x[k] - g.x, dy = s.y[k] - g.y;
+      if (dx * dx + dy * dy < g.r2) {
+        ++leaked_points_;
+        break;
+      }
+    }
+  static_points_ += s.num_points;
+}
+
+}  // namespace ucon::bench::nav
