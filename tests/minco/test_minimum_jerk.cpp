@@ -263,6 +263,9 @@ TEST(MinimumJerk, GivenBadParametersThenSetParametersFailsWithoutCrashing) {
   EXPECT_FALSE(mj.setParameters(pr.inner, T));
   T(1) = std::nan("");
   EXPECT_FALSE(mj.setParameters(pr.inner, T));
+  T(1) = 1e70;  // T^5 overflows: the system is not finite
+  EXPECT_FALSE(mj.setParameters(pr.inner, T));
+  EXPECT_TRUE(mj.setParameters(pr.inner, pr.T));  // and the next call works again
   EXPECT_FALSE(mj.setParameters(Eigen::Matrix2Xd::Zero(2, 5), pr.T));
   MinimumJerk2D::Boundary bad = pr.head;
   bad(0, 0) = std::numeric_limits<double>::infinity();
