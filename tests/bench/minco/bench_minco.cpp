@@ -8,8 +8,14 @@
 // and the figures are medians over repetitions. Every output of MinimumJerk2D is checked
 // against the dense reference (max |difference| / max |reference| per output, at most 1e-12).
 //
+// The load average (/proc/loadavg) before and after is printed and written to the JSON: on a
+// shared machine the wall times are only comparable between runs under similar load.
+//
 //   ucon-bench-minco [--pieces 4,8,16,32] [--reps R] [--problems P] [--seed S] [--quick]
 //                    [--json FILE]
+//   ucon-bench-minco --count N --reps R    (MinimumJerk2D only, no timing, for callgrind:
+//       valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*countOurs*' ...;
+//       instructions per evaluation = Ir / (R x problems))
 //
 // --quick: correctness check and a few repetitions (for ctest); the exit status is non-zero
 // only when the two implementations disagree, never because of a timing.
@@ -17,6 +23,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -92,6 +99,16 @@ struct Row {
   int reps = 0;
 };
 
+// The three load averages of /proc/loadavg ("" where it cannot be read).
+std::string loadAverage() {
+  std::ifstream f("/proc/loadavg");
+  double a = 0.0, b = 0.0, c = 0.0;
+  if (!(f >> a >> b >> c)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.2f %.2f %.2f", a, b, c);
+  return buf;
+}
+
 double nowNs() {
   return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
                                  std::chrono::steady_clock::now().time_since_epoch())
@@ -144,21 +161,42 @@ Row measure(int n, int problems, int reps, unsigned seed) {
   std::vector<double> ours, dns;
   volatile double sink = 0.0;
   for (int r = 0; r < reps; ++r) {
-    double t0 = nowNs();
-    double acc = 0.0;
-    for (const Problem& p : ps) acc += runOurs(mj, p, b, nullptr);
-    double t1 = nowNs();
-    ours.push_back((t1 - t0) / static_cast<double>(ps.size()));
-    const Problem& p = ps[static_cast<std::size_t>(r) % ps.size()];
-    t0 = nowNs();
-    dense.evaluate(p.head, p.tail, p.inner, p.T, &ref);
-    t1 = nowNs();
-    dns.push_back(t1 - t0);
-    sink = sink + acc + ref.energy;
+    // The order alternates, so that neither side always runs on a cache the other warmed.
+    for (int half = 0; half < 2; ++half) {
+      if ((half + r) % 2 == 0) {
+        const double t0 = nowNs();
+        double acc = 0.0;
+        for (const Problem& p : ps) acc += runOurs(mj, p, b, nullptr);
+        const double t1 = nowNs();
+        ours.push_back((t1 - t0) / static_cast<double>(ps.size()));
+        sink = sink + acc;
+      } else {
+        const Problem& p = ps[static_cast<std::size_t>(r) % ps.size()];
+        const double t0 = nowNs();
+        dense.evaluate(p.head, p.tail, p.inner, p.T, &ref);
+        const double t1 = nowNs();
+        dns.push_back(t1 - t0);
+        sink = sink + ref.energy;
+      }
+    }
   }
   row.ours_ns = ucon::bench::percentile(ours, 0.5);
   row.dense_ns = ucon::bench::percentile(dns, 0.5);
   return row;
+}
+
+// MinimumJerk2D only, `reps` passes over the problems (callgrind counts this function).
+__attribute__((noinline)) double countOurs(int n, int problems, int reps, unsigned seed) {
+  std::mt19937 rng(seed + 1000u * static_cast<unsigned>(n));
+  std::vector<Problem> ps;
+  for (int k = 0; k < problems; ++k) ps.push_back(randomProblem(n, rng));
+  MinimumJerk2D mj;
+  mj.setConditions(ps[0].head, ps[0].tail, n);
+  OursBuffers b(n);
+  double acc = 0.0;
+  for (int r = 0; r < reps; ++r)
+    for (const Problem& p : ps) acc += runOurs(mj, p, b, nullptr);
+  return acc;
 }
 
 }  // namespace
@@ -175,8 +213,19 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "seed of the random problems");
   app.add_flag("--quick", quick, "correctness check and 3 repetitions (for ctest)");
   app.add_option("--json", json_path, "write the results as JSON to this file");
+  int count = 0;
+  app.add_option("--count", count, "MinimumJerk2D only at this N, untimed (for callgrind)")
+      ->check(CLI::Range(1, 1000));
   CLI11_PARSE(app, argc, argv);
   if (quick) reps = 3;
+  if (count > 0) {
+    // The problems are built inside countOurs; callgrind's count includes that set-up
+    // (below 1 % at the default sizes, once per run, not per evaluation).
+    const double acc = countOurs(count, problems, reps, seed);
+    std::printf("MinimumJerk2D N=%d: %d evaluations (%g)\n", count, problems * reps, acc);
+    return 0;
+  }
+  const std::string load_before = loadAverage();
 
   std::vector<Row> rows;
   for (const std::string& s : ucon::bench::split(pieces_list)) {
@@ -188,8 +237,11 @@ int main(int argc, char** argv) {
     rows.push_back(measure(n, problems, reps, seed));
   }
 
+  const std::string load_after = loadAverage();
   std::printf("MINCO s=3, 2-D: set waypoints+durations, energy, energy gradients, propagation\n");
-  std::printf("%d problems per N, %d repetitions, medians (ns per evaluation)\n", problems, reps);
+  std::printf("%d problems per N, %d interleaved repetitions, medians (ns per evaluation)\n",
+              problems, reps);
+  std::printf("load average before: %s, after: %s\n", load_before.c_str(), load_after.c_str());
   std::printf("%6s %14s %14s %12s %14s\n", "N", "MinimumJerk2D", "dense ref", "dense/ours", "max rel diff");
   bool agree = true;
   for (const Row& r : rows) {
@@ -206,6 +258,8 @@ int main(int argc, char** argv) {
           "propagateGradient\", \"problems\": "
        << problems << ", \"reps\": " << reps << ", \"seed\": " << seed
        << ", \"tolerance\": " << kTolerance << ", \"agree\": " << (agree ? "true" : "false")
+       << ", \"loadavg_before\": \"" << load_before << "\", \"loadavg_after\": \"" << load_after
+       << "\""
        << ", \"results\": [";
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const Row& r = rows[i];
