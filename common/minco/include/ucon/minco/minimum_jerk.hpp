@@ -16,8 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "ucon/minco/banded_lu.hpp"
-#include "ucon/minco/minco_band_lu.hpp"
+#include "ucon/minco/minco_system.hpp"
 #include "ucon/trajectory_t.hpp"
 
 namespace ucon::minco {
@@ -71,17 +70,13 @@ class MinimumJerk2D {
   void toTrajectory(int64_t start_utime, trajectory_t* out) const;
 
  private:
-  void solveWithBandedLu(const Eigen::Ref<const Eigen::Matrix2Xd>& inner);
-
   int n_ = 0;
   Boundary head_ = Boundary::Zero();
   Boundary tail_ = Boundary::Zero();
   Eigen::VectorXd T_;
   Eigen::MatrixXd c_;       // 6N x 2
-  Eigen::MatrixXd lambda_;  // 6N x 2, adjoint buffer
-  MincoBandLu band_;        // the factorisation every call uses
-  MincoBandLu::Pairs xy_, adjoint_;  // right-hand sides of the solves, padded pairs
-  BandedLu lu_;             // reference solver, used only when a result is not finite
+  MincoSystem system_;      // M(T), factorised
+  MincoSystem::Pairs rhs_, adjoint_;  // 6N x 2 work buffers of the two solves
 };
 
 }  // namespace ucon::minco
