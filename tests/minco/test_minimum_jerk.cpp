@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "dense_minimum_jerk.hpp"
 #include "ucon/minco/minimum_jerk.hpp"
 #include "ucon/minco/time_map.hpp"
 
@@ -196,6 +197,35 @@ TEST(MinimumJerk, GivenAnArbitraryCostOfCoefficientsAndTimesThenPropagatedGradie
   }
 }
 
+TEST(MinimumJerk, GivenRandomProblemsWhenTheSequenceRunsThenEveryOutputMatchesTheDenseReference) {
+  using namespace ucon::minco::testing;
+  for (int n : {1, 2, 3, 7, 16}) {
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      const Problem pr = randomProblem(n, 100 * n + seed);
+      MinimumJerk2D mj;
+      ASSERT_TRUE(mj.setConditions(pr.head, pr.tail, n));
+      ASSERT_TRUE(mj.setParameters(pr.inner, pr.T));
+      Eigen::MatrixXd gC = Eigen::MatrixXd::Zero(6 * n, 2);
+      Eigen::VectorXd gT = Eigen::VectorXd::Zero(n), g_durations(n);
+      Eigen::Matrix2Xd g_inner(2, n - 1);
+      Eigen::Vector2d g_tail;
+      const double energy = mj.energy();
+      mj.addEnergyGradient(gC, gT);
+      mj.propagateGradient(gC, gT, g_inner, g_durations, &g_tail);
+      DenseMinimumJerk2D dense;
+      MincoSequenceResult ref;
+      ASSERT_TRUE(dense.evaluate(pr.head, pr.tail, pr.inner, pr.T, &ref));
+      EXPECT_LT(relativeDifference(mj.coeffs(), ref.coeffs), 1e-12) << n << "/" << seed;
+      EXPECT_LT(relErr(energy, ref.energy), 1e-12) << n << "/" << seed;
+      if (n > 1) {
+        EXPECT_LT(relativeDifference(g_inner, ref.g_inner), 1e-12) << n << "/" << seed;
+      }
+      EXPECT_LT(relativeDifference(g_durations, ref.g_durations), 1e-12) << n << "/" << seed;
+      EXPECT_LT(relativeDifference(g_tail, ref.g_tail), 1e-12) << n << "/" << seed;
+    }
+  }
+}
+
 TEST(MinimumJerk, GivenATrajectoryWhenWrittenToAMessageThenCoefficientLayoutEvaluatesTheSame) {
   const int n = 3;
   const Problem pr = randomProblem(n, 19);
@@ -233,6 +263,9 @@ TEST(MinimumJerk, GivenBadParametersThenSetParametersFailsWithoutCrashing) {
   EXPECT_FALSE(mj.setParameters(pr.inner, T));
   T(1) = std::nan("");
   EXPECT_FALSE(mj.setParameters(pr.inner, T));
+  T(1) = 1e70;  // T^5 overflows: the system is not finite
+  EXPECT_FALSE(mj.setParameters(pr.inner, T));
+  EXPECT_TRUE(mj.setParameters(pr.inner, pr.T));  // and the next call works again
   EXPECT_FALSE(mj.setParameters(Eigen::Matrix2Xd::Zero(2, 5), pr.T));
   MinimumJerk2D::Boundary bad = pr.head;
   bad(0, 0) = std::numeric_limits<double>::infinity();

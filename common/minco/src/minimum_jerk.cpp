@@ -18,11 +18,6 @@ inline void powers(double T, double* p) {
   for (int k = 1; k < 6; ++k) p[k] = p[k - 1] * T;
 }
 
-// Junction rows in order: waypoint, then continuity of derivative 3, 4, 0, 1, 2. This order
-// puts a non-zero entry on every diagonal (T^3, 24T, 120T, -1, -1, -2).
-constexpr int kJunctionOrder[6] = {0, 3, 4, 0, 1, 2};
-constexpr int kLower = 6, kUpper = 5;
-
 }  // namespace
 
 bool MinimumJerk2D::setConditions(const Boundary& head, const Boundary& tail, int pieces) {
@@ -33,8 +28,9 @@ bool MinimumJerk2D::setConditions(const Boundary& head, const Boundary& tail, in
     n_ = pieces;
     T_ = Eigen::VectorXd::Ones(n_);
     c_ = Eigen::MatrixXd::Zero(6 * n_, 2);
-    lambda_ = Eigen::MatrixXd::Zero(6 * n_, 2);
-    lu_.reset(6 * n_, kLower, kUpper);
+    system_.setPieces(n_);
+    rhs_ = MincoSystem::Pairs::Zero(6 * n_, 2);
+    adjoint_ = MincoSystem::Pairs::Zero(6 * n_, 2);
   }
   return true;
 }
@@ -45,43 +41,21 @@ bool MinimumJerk2D::setTail(const Boundary& tail) {
   return true;
 }
 
-void MinimumJerk2D::buildSystem() {
-  lu_.setZero();
-  lu_(0, 0) = 1.0;
-  lu_(1, 1) = 1.0;
-  lu_(2, 2) = 2.0;
-  double tp[6];
-  for (int i = 0; i + 1 < n_; ++i) {
-    powers(T_(i), tp);
-    const int r = 3 + 6 * i, a = 6 * i, b = 6 * (i + 1);
-    for (int k = 0; k < 6; ++k) {
-      const int d = kJunctionOrder[k];
-      for (int j = d; j < 6; ++j) lu_(r + k, a + j) = kFall[j][d] * tp[j - d];
-      if (k > 0) lu_(r + k, b + d) = -kFall[d][d];
-    }
-  }
-  powers(T_(n_ - 1), tp);
-  const int r = 6 * n_ - 3, a = 6 * (n_ - 1);
-  for (int d = 0; d < 3; ++d)
-    for (int j = d; j < 6; ++j) lu_(r + d, a + j) = kFall[j][d] * tp[j - d];
-}
-
 bool MinimumJerk2D::setParameters(const Eigen::Ref<const Eigen::Matrix2Xd>& inner,
                                   const Eigen::Ref<const Eigen::VectorXd>& durations) {
   if (n_ < 1 || inner.cols() != n_ - 1 || durations.size() != n_) return false;
   if (!inner.allFinite() || !durations.allFinite() || !(durations.minCoeff() > 0.0)) return false;
   T_ = durations;
-  buildSystem();
-  if (!lu_.factorise()) return false;
-  c_.setZero();
-  c_.row(0) = head_.col(0).transpose();
-  c_.row(1) = head_.col(1).transpose();
-  c_.row(2) = head_.col(2).transpose();
-  for (int i = 0; i + 1 < n_; ++i) c_.row(3 + 6 * i) = inner.col(i).transpose();
-  c_.row(6 * n_ - 3) = tail_.col(0).transpose();
-  c_.row(6 * n_ - 2) = tail_.col(1).transpose();
-  c_.row(6 * n_ - 1) = tail_.col(2).transpose();
-  lu_.solve(c_);
+  if (!system_.setDurations(T_)) return false;
+  // b(q): head p/v/a, the waypoints, tail p/v/a; the continuity rows are zero.
+  rhs_.setZero();
+  for (int d = 0; d < 3; ++d) {
+    rhs_.row(MincoSystem::headRow(d)) = head_.col(d).transpose();
+    rhs_.row(system_.tailRow(d)) = tail_.col(d).transpose();
+  }
+  for (int i = 0; i + 1 < n_; ++i) rhs_.row(MincoSystem::waypointRow(i)) = inner.col(i).transpose();
+  system_.solve(rhs_);
+  c_ = rhs_;
   return c_.allFinite();
 }
 
@@ -120,22 +94,21 @@ void MinimumJerk2D::propagateGradient(const Eigen::Ref<const Eigen::MatrixXd>& g
                                       Eigen::Ref<Eigen::VectorXd> g_durations,
                                       Eigen::Vector2d* g_tail_position) {
   // K(c(q,T), T): dK/db = M^-T dK/dc =: lambda; dK/dT_i = gT_i - lambda^T (dM/dT_i) c.
-  lambda_ = gC;
-  lu_.solveTransposed(lambda_);
-  for (int i = 0; i + 1 < n_; ++i) g_inner.col(i) = lambda_.row(3 + 6 * i).transpose();
-  if (g_tail_position) *g_tail_position = lambda_.row(6 * n_ - 3).transpose();
+  adjoint_ = gC;
+  system_.solveTransposed(adjoint_);
+  for (int i = 0; i + 1 < n_; ++i) g_inner.col(i) = adjoint_.row(MincoSystem::waypointRow(i)).transpose();
+  if (g_tail_position) *g_tail_position = adjoint_.row(system_.tailRow(0)).transpose();
   for (int i = 0; i < n_; ++i) {
     // Row of derivative order d of piece i at T_i: d/dT_i (row . c) = p_i^(d+1)(T_i).
     Eigen::Vector2d deriv[6];
     for (int d = 1; d <= 5; ++d) deriv[d] = derivative(i, T_(i), d);
     double g = gT(i);
     if (i + 1 < n_) {
-      const int r = 3 + 6 * i;
+      const int r = MincoSystem::junctionRow(i);
       for (int k = 0; k < 6; ++k)
-        g -= lambda_.row(r + k).dot(deriv[kJunctionOrder[k] + 1].transpose());
+        g -= adjoint_.row(r + k).dot(deriv[MincoSystem::kJunctionDerivative[k] + 1].transpose());
     } else {
-      const int r = 6 * n_ - 3;
-      for (int d = 0; d < 3; ++d) g -= lambda_.row(r + d).dot(deriv[d + 1].transpose());
+      for (int d = 0; d < 3; ++d) g -= adjoint_.row(system_.tailRow(d)).dot(deriv[d + 1].transpose());
     }
     g_durations(i) = g;
   }

@@ -1,6 +1,6 @@
 #pragma once
 /// @file minimum_jerk.hpp
-/// MINCO minimum-jerk trajectory (s = 3) in 2-D (Wang et al. 2022; REFERENCE.md §4).
+/// MINCO minimum-jerk trajectory (s = 3) in 2-D (Wang et al. 2022; docs/reference.md §4).
 ///
 /// N quintic pieces p_i(t) = sum_j c_{i,j} t^j, t in [0, T_i]. Conditions: head p/v/a,
 /// tail p/v/a, N-1 inner waypoints q_i = p_i(T_i), continuity of derivatives 0..4 at each
@@ -16,7 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "ucon/minco/banded_lu.hpp"
+#include "ucon/minco/minco_system.hpp"
 #include "ucon/trajectory_t.hpp"
 
 namespace ucon::minco {
@@ -70,15 +70,13 @@ class MinimumJerk2D {
   void toTrajectory(int64_t start_utime, trajectory_t* out) const;
 
  private:
-  void buildSystem();
-
   int n_ = 0;
   Boundary head_ = Boundary::Zero();
   Boundary tail_ = Boundary::Zero();
   Eigen::VectorXd T_;
   Eigen::MatrixXd c_;       // 6N x 2
-  Eigen::MatrixXd lambda_;  // 6N x 2, adjoint buffer
-  BandedLu lu_;
+  MincoSystem system_;      // M(T), factorised
+  MincoSystem::Pairs rhs_, adjoint_;  // 6N x 2 work buffers of the two solves
 };
 
 }  // namespace ucon::minco

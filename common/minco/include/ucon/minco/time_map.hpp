@@ -1,7 +1,7 @@
 #pragma once
 /// @file time_map.hpp
 /// Smooth bijection between an unconstrained variable tau and a positive duration T
-/// (REFERENCE.md §4): T = tau^2/2 + tau + 1 for tau > 0, T = 1/(tau^2/2 - tau + 1) otherwise.
+/// (docs/reference.md §4): T = tau^2/2 + tau + 1 for tau > 0, T = 1/(tau^2/2 - tau + 1) otherwise.
 /// C^1 at tau = 0 (T = 1, dT/dtau = 1), so L-BFGS can work on tau without bounds.
 
 namespace ucon::minco {
