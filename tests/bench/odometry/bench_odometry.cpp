@@ -312,9 +312,15 @@ Result runOne(const Setup& setup, const std::string& spec, bool verbose) {
         r != ucon::odometry_status_t::RESULT_MAP_STARTED)
       res.not_updated += tr.results()[static_cast<std::size_t>(r)];
   if (verbose) {
-    std::printf("  %s: %.1f s simulated in %.1f s, %d/%d goals, %zu truth / %zu lio / %zu imu-only / %zu lidar-only poses\n",
+    std::string frames;
+    for (int r = 0; r < 9; ++r)
+      if (tr.results()[static_cast<std::size_t>(r)] > 0)
+        frames += std::string(frames.empty() ? "" : ", ") + ucon::odometry::resultName(r) + " " +
+                  std::to_string(tr.results()[static_cast<std::size_t>(r)]);
+    std::printf("  %s: %.1f s simulated in %.1f s, %d/%d goals, %zu truth / %zu lio / %zu imu-only / %zu lidar-only "
+                "poses; lio frames: %s\n",
                 spec.c_str(), res.sim_s, res.wall_s, res.reached, res.goals, truth.size(), tr.estimate().size(),
-                est->imu_only_traj_.size(), est->lidar_only_traj_.size());
+                est->imu_only_traj_.size(), est->lidar_only_traj_.size(), frames.c_str());
     std::fflush(stdout);
   }
   return res;
