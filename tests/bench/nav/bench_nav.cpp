@@ -50,6 +50,7 @@
 #include "ucon/tracked_objects_t.hpp"
 #include "ucon/trajectory_t.hpp"
 #include "../bench_util.hpp"
+#include "odometry_in_loop.hpp"
 
 #ifndef UCON_SOURCE_DIR
 #define UCON_SOURCE_DIR "."
@@ -457,6 +458,7 @@ struct Setup {
   ucon::mission::MissionParams mission;
   std::map<std::string, std::string> node_yaml;  // node name -> YAML text
   std::string config_dir, scenario_dir;
+  std::string pose = "ground_truth";  ///< --pose: ground_truth | odometry (odometry_in_loop.hpp)
 };
 
 struct RunResult {
@@ -567,6 +569,11 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   cfg.sim = setup.sim;
   cfg.driver = setup.driver;
   cfg.scenario = *sc;
+  std::unique_ptr<rp::NodeAdapter> odometry;
+  if (setup.pose == "odometry") {
+    if (!(odometry = ucon::bench::odometryInLoop(setup.config_dir, *sc, &cfg.sim, &res.error))) return res;
+    loop.push_back(odometry.get());
+  }
   cfg.duration_s = timeout_s + 0.1;  // the mission ends the run at timeout_s of pose time
   cfg.send_goal = false;             // the mission sends the goals
   cfg.scripted_plan = false;         // the planner plans
@@ -693,6 +700,8 @@ int main(int argc, char** argv) {
                "diagnosis: perception's tracks, each with the velocity of the ground-truth mover within 0.8 m");
   app.add_flag("--oracle-static", oracle.static_map,
                "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
+  app.add_option("--pose", setup.pose, "robot pose: ground_truth (the simulator's) | odometry (LiDAR-inertial)")
+      ->check(CLI::IsMember({"ground_truth", "odometry"}));
   app.add_flag("--serial", pipeline.serial,
                "run every node on the loop's thread with a zero-latency bus (default: perception and planner "
                "on threads of their own, outputs delivered after a fixed latency)");
