@@ -2,7 +2,8 @@
 """Checks that the repository stands on its own:
 
 - no tracked file cites the design notes that live outside the repository (the reference
-  facts the code relies on are in docs/reference.md, in the project's own words);
+  facts the code relies on are in docs/reference.md, in the project's own words); the one
+  exception is where a test looks for a data set kept beside the checkout (ALLOWED);
 - every relative link in a Markdown file names a file or folder that exists;
 - every repository path written in docs/paper-map.md exists.
 
@@ -16,6 +17,9 @@ import sys
 
 # Built from parts so that this file does not match itself.
 OUTSIDE = [re.compile(re.escape("REFERENCE" + ".md")), re.compile(re.escape(".." + "/shared"))]
+# The one deliberate exception: the real LiDAR scan pair is test data kept beside the checkout,
+# not in it (its licence and size); the test looks for it there and skips, saying so, without it.
+ALLOWED = {"tests/odometry/CMakeLists.txt"}
 LINK = re.compile(r"\]\(([^)\s]+)\)")
 PATH = re.compile(r"\b((?:common|procs|tests|deploy|scripts|docs|lcmtypes)/[A-Za-z0-9_./-]+\.(?:cpp|hpp|py|sh|yaml|md|lcm))")
 
@@ -41,6 +45,8 @@ def main():
         except (UnicodeDecodeError, OSError):
             continue  # binary or unreadable: nothing to cite
         for n, line in enumerate(text.splitlines(), 1):
+            if rel in ALLOWED:
+                break
             for pat in OUTSIDE:
                 if pat.search(line):
                     problems.append(f"{rel}:{n}: cites a file outside the repository: {line.strip()[:100]}")

@@ -44,10 +44,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0LL, 9000000000000000000LL));
   app.add_option("--scenario-dir", scenario_dir, "folder of the named scenarios (default deploy/scenarios)");
   app.add_option("--lcm-url", url, "LCM URL (default: $LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0)");
+  std::string pose_source;
+  app.add_option("--pose-source", pose_source, "override the config's pose_source: ground_truth | none")
+      ->check(CLI::IsMember({"ground_truth", "none"}));
   CLI11_PARSE(app, argc, argv);
 
   auto params = runtime::loadConfigFile<simulator::SimulatorParams>(kName, config_path);
   if (!params) return 2;
+  if (!pose_source.empty()) params->pose_source = pose_source;
   if (const std::string bad = params->validate(); !bad.empty()) {
     runtime::logLine(kName, "error", "config " + config_path + ": " + bad);
     return 2;

@@ -461,3 +461,37 @@ TEST(BaseControllerBadInput, GivenRandomGarbageInputsThenCommandsStayFiniteAndWi
   }
   EXPECT_GT(rejected, 100);  // the garbage was seen as garbage
 }
+
+TEST(BaseControllerWatchdog, GivenTrackingWhenThePoseTurnsInvalidThenTheBaseStopsAtOnceUntilValidAndANewPlan) {
+  // The odometry marks ROBOT_POSE invalid when it has lost its LiDAR updates: the base must
+  // not wait for the staleness timeout (the invalid poses keep coming, fresh).
+  const BaseControllerParams p = shippedParams();
+  Running r(p);
+  r.run(2.0);
+  ASSERT_EQ(r.loop.ctrl.state(), base_status_t::STATE_TRACKING);
+  ASSERT_GT(r.cmdSpeed(), 0.5);
+  r.loop.send_pose = false;
+  const int64_t t_invalid = r.loop.t;
+  int64_t trigger = -1;
+  for (int i = 0; i < 200; ++i) {
+    ucon::robot_pose_t m = test_support::poseFrom(r.loop.plant.state(), r.loop.t);
+    m.valid = false;
+    r.loop.ctrl.onPose(m);
+    r.step();
+    if (trigger < 0 && r.loop.ctrl.state() != base_status_t::STATE_TRACKING) trigger = r.loop.t;
+  }
+  ASSERT_GE(trigger, 0);
+  EXPECT_LE(trigger - t_invalid, 20000);  // on the first tick
+  EXPECT_NE(r.loop.ctrl.reason().find("pose invalid"), std::string::npos) << r.loop.ctrl.reason();
+  EXPECT_TRUE(allZero(r.last_cmd));
+  // Valid poses again but the old plan: stays stopped; a new plan: tracking again.
+  r.loop.send_pose = true;
+  r.publish_plan = false;
+  r.run(0.3);
+  EXPECT_NE(r.loop.ctrl.state(), base_status_t::STATE_TRACKING);
+  r.plan = r.fig.message(r.loop.t);
+  r.next_plan = r.loop.t;
+  r.publish_plan = true;
+  r.run(0.2);
+  EXPECT_EQ(r.loop.ctrl.state(), base_status_t::STATE_TRACKING);
+}

@@ -214,6 +214,22 @@ TEST(FoxgloveView, GivenARobotPoseWhenConvertedThenTransformWorldToBaseAndPose) 
   EXPECT_EQ(out[0].topic.topic, "/robot_pose");
 }
 
+TEST(FoxgloveView, GivenTheOdometryPoseBesideRobotPoseWhenConvertedThenOnlyRobotPoseMovesTheBaseFrame) {
+  fg::FoxgloveConverter c(shippedParams());
+  ucon::robot_pose_t p{};
+  p.utime = 2'000'000;
+  p.valid = 1;
+  p.x = 1.0;
+  p.qw = 1.0;
+  const auto out = convert(c, "ODOMETRY_POSE", p, p.utime);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].topic.topic, "/odometry_pose");
+  EXPECT_EQ(out[0].topic.schema_name, "foxglove.PoseInFrame");
+  const auto topics = fg::foxgloveTopicsFor("ODOMETRY_POSE", "ucon.robot_pose_t");
+  ASSERT_EQ(topics.size(), 1u);
+  EXPECT_EQ(topics[0].topic, "/odometry_pose");
+}
+
 TEST(FoxgloveView, GivenAMovingTrackWhenConvertedThenSectorIsEqs6And7AndEllipseIsTwoSigma) {
   const fg::ViewParams params = shippedParams();
   fg::FoxgloveConverter c(params);

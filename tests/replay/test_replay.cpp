@@ -104,9 +104,10 @@ TEST(Replay, GivenARecordedRunWhenEachNodeIsReplayedTwiceThenOutputsAreByteIdent
   TempDir dir;
   const std::string run = dir.file("run.lcm");
   std::string err;
-  // Every built node in the loop (the whole stack when perception and planner exist); 1 s of
+  // Every built node in the loop (the whole stack when perception and planner exist; with the
+  // odometry, the robot's pose comes from it, after its 0.5 s standstill start); 1.5 s of
   // simulation keeps the planner's share of the test to a few seconds.
-  ASSERT_TRUE(rp::recordToLog(spec("crossing", 1.0, rp::availableNodes()), run, nullptr, &err)) << err;
+  ASSERT_TRUE(rp::recordToLog(spec("crossing", 1.5, rp::availableNodes()), run, nullptr, &err)) << err;
   for (const auto& node : rp::availableNodes()) {
     SCOPED_TRACE(node);
     const std::string o1 = dir.file(node + "_1.lcm"), o2 = dir.file(node + "_2.lcm");

@@ -10,6 +10,7 @@
 #include "ucon/lidar_driver/driver_params.hpp"
 #include "ucon/logger/logger_params.hpp"
 #include "ucon/mission/mission_node.hpp"
+#include "ucon/odometry/params.hpp"
 #include "ucon/planner/planner_params.hpp"
 #include "ucon/simulator/params.hpp"
 
@@ -221,6 +222,64 @@ TEST(ShippedConfig, GivenPlannerYamlWhenLoadedThenEveryFieldEqualsTheInClassDefa
   c.expect("front_end.max_pieces", s.front_end.max_pieces, d.front_end.max_pieces);
   c.expect("front_end.guess_speed_ratio", s.front_end.guess_speed_ratio, d.front_end.guess_speed_ratio);
   c.expect("front_end.guess_accel_ratio", s.front_end.guess_accel_ratio, d.front_end.guess_accel_ratio);
+TEST(ShippedConfig, GivenOdometryYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
+  ShippedConfig<ucon::odometry::OdometryParams> c("deploy/config/odometry.yaml");
+  ASSERT_TRUE(c.loaded());
+  const auto& s = c.shipped();
+  const ucon::odometry::OdometryParams d;
+  c.expect("points_frame", s.points_frame, d.points_frame);
+  c.expect("pose_channel", s.pose_channel, d.pose_channel);
+  c.expect("health_period_s", s.health_period_s, d.health_period_s);
+  c.expect("imu.position", s.lio.imu_position, d.lio.imu_position);
+  c.expect("imu.time_offset_s", s.lio.imu_time_offset_s, d.lio.imu_time_offset_s);
+  c.expect("imu.gravity", s.lio.gravity, d.lio.gravity);
+  c.expect("imu.gyro_noise", s.lio.noise.gyro_noise, d.lio.noise.gyro_noise);
+  c.expect("imu.acc_noise", s.lio.noise.acc_noise, d.lio.noise.acc_noise);
+  c.expect("imu.gyro_bias_walk", s.lio.noise.gyro_bias_walk, d.lio.noise.gyro_bias_walk);
+  c.expect("imu.acc_bias_walk", s.lio.noise.acc_bias_walk, d.lio.noise.acc_bias_walk);
+  c.expect("imu.gap_s", s.lio.imu_gap_s, d.lio.imu_gap_s);
+  c.expect("imu.max_gap_s", s.lio.max_imu_gap_s, d.lio.max_imu_gap_s);
+  c.expect("imu.gap_acc_std", s.lio.gap_acc_std, d.lio.gap_acc_std);
+  c.expect("imu.gap_gyro_std", s.lio.gap_gyro_std, d.lio.gap_gyro_std);
+  c.expect("init.window_s", s.lio.init_window_s, d.lio.init_window_s);
+  c.expect("init.max_gyro_std", s.lio.init_max_gyro_std, d.lio.init_max_gyro_std);
+  c.expect("init.max_acc_std", s.lio.init_max_acc_std, d.lio.init_max_acc_std);
+  c.expect("init.max_gravity_error", s.lio.init_max_gravity_error, d.lio.init_max_gravity_error);
+  c.expect("init.pose", s.lio.initial_pose, d.lio.initial_pose);
+  c.expect("init.position_std", s.lio.initial_position_std, d.lio.initial_position_std);
+  c.expect("init.yaw_std", s.lio.initial_yaw_std, d.lio.initial_yaw_std);
+  c.expect("init.velocity_std", s.lio.initial_velocity_std, d.lio.initial_velocity_std);
+  c.expect("init.acc_bias_std", s.lio.initial_acc_bias_std, d.lio.initial_acc_bias_std);
+  c.expect("init.gyro_bias_std", s.lio.initial_gyro_bias_std, d.lio.initial_gyro_bias_std);
+  c.expect("points.min_range", s.lio.min_range, d.lio.min_range);
+  c.expect("points.max_range", s.lio.max_range, d.lio.max_range);
+  c.expect("points.downsample_voxel", s.lio.downsample_voxel, d.lio.downsample_voxel);
+  c.expect("points.min_points", s.lio.min_points, d.lio.min_points);
+  c.expect("update.max_iterations", s.lio.max_iterations, d.lio.max_iterations);
+  c.expect("update.knn", s.lio.knn, d.lio.knn);
+  c.expect("update.max_correspondence", s.lio.max_correspondence, d.lio.max_correspondence);
+  c.expect("update.plane_threshold", s.lio.plane_threshold, d.lio.plane_threshold);
+  c.expect("update.point_std", s.lio.point_std, d.lio.point_std);
+  c.expect("update.robust_scale", s.lio.robust_scale, d.lio.robust_scale);
+  c.expect("update.outlier_distance", s.lio.outlier_distance, d.lio.outlier_distance);
+  c.expect("update.converged_rotation", s.lio.converged_rotation, d.lio.converged_rotation);
+  c.expect("update.converged_translation", s.lio.converged_translation, d.lio.converged_translation);
+  c.expect("update.research_translation", s.lio.research_translation, d.lio.research_translation);
+  c.expect("update.research_rotation", s.lio.research_rotation, d.lio.research_rotation);
+  c.expect("update.min_matched_ratio", s.lio.min_matched_ratio, d.lio.min_matched_ratio);
+  c.expect("map.voxel_size", s.lio.map.voxel_size, d.lio.map.voxel_size);
+  c.expect("map.max_points_per_voxel", s.lio.map.max_points_per_voxel, d.lio.map.max_points_per_voxel);
+  c.expect("map.min_point_spacing", s.lio.map.min_point_spacing, d.lio.map.min_point_spacing);
+  c.expect("map.max_voxels", s.lio.map.max_voxels, d.lio.map.max_voxels);
+  c.expect("map.radius", s.lio.map.radius, d.lio.map.radius);
+  c.expect("map.neighbourhood", s.lio.map.neighbourhood, d.lio.map.neighbourhood);
+  c.expect("map.trim_every_m", s.lio.map_trim_every_m, d.lio.map_trim_every_m);
+  c.expect("map.insert_max_residual", s.lio.map_insert_max_residual, d.lio.map_insert_max_residual);
+  c.expect("ground_prior.enabled", s.lio.ground_prior, d.lio.ground_prior);
+  c.expect("ground_prior.height_std", s.lio.ground_height_std, d.lio.ground_height_std);
+  c.expect("ground_prior.tilt_std", s.lio.ground_tilt_std, d.lio.ground_tilt_std);
+  c.expect("output.imu_only_timeout_s", s.lio.imu_only_timeout_s, d.lio.imu_only_timeout_s);
+  c.expect("output.max_pending_frames", s.lio.max_pending_frames, d.lio.max_pending_frames);
   c.expectEveryKeyChecked();
 }
 
@@ -234,6 +293,7 @@ TEST(ShippedConfig, GivenSimulatorYamlWhenLoadedThenEveryFieldEqualsTheInClassDe
   c.expect("pose_rate_hz", s.pose_rate_hz, d.pose_rate_hz);
   c.expect("cmd_timeout_s", s.cmd_timeout_s, d.cmd_timeout_s);
   c.expect("status_period_s", s.status_period_s, d.status_period_s);
+  c.expect("pose_source", s.pose_source, d.pose_source);
   c.expect("lidar.point_rate", s.lidar.point_rate, d.lidar.point_rate);
   c.expect("lidar.data_type", s.lidar.data_type, d.lidar.data_type);
   c.expect("lidar.min_range", s.lidar.min_range, d.lidar.min_range);
@@ -248,6 +308,14 @@ TEST(ShippedConfig, GivenSimulatorYamlWhenLoadedThenEveryFieldEqualsTheInClassDe
   c.expect("imu.rate_hz", s.imu.rate_hz, d.imu.rate_hz);
   c.expect("imu.gyro_noise_sigma", s.imu.gyro_noise_sigma, d.imu.gyro_noise_sigma);
   c.expect("imu.acc_noise_sigma", s.imu.acc_noise_sigma, d.imu.acc_noise_sigma);
+  c.expect("imu.gyro_bias_walk", s.imu.gyro_bias_walk, d.imu.gyro_bias_walk);
+  c.expect("imu.acc_bias_walk", s.imu.acc_bias_walk, d.imu.acc_bias_walk);
+  c.expect("imu.gyro_bias", s.imu.gyro_bias, d.imu.gyro_bias);
+  c.expect("imu.acc_bias", s.imu.acc_bias, d.imu.acc_bias);
+  c.expect("imu.position", s.imu.position, d.imu.position);
+  c.expect("imu.time_offset_s", s.imu.time_offset_s, d.imu.time_offset_s);
+  c.expect("vibration.amplitude_deg", s.vibration.amplitude_deg, d.vibration.amplitude_deg);
+  c.expect("vibration.frequency_hz", s.vibration.frequency_hz, d.vibration.frequency_hz);
   c.expect("net.host_ip", s.net.host_ip, d.net.host_ip);
   c.expect("net.host_point_port", s.net.host_point_port, d.net.host_point_port);
   c.expect("net.host_imu_port", s.net.host_imu_port, d.net.host_imu_port);

@@ -67,7 +67,8 @@ TEST(ScenarioYaml, GivenAFileWithEveryShapeAndMotionThenItParses) {
 }
 
 TEST(ScenarioYaml, GivenTheShippedScenariosThenTheyParse) {
-  for (const char* f : {"deploy/scenarios/pedestrians.yaml", "deploy/scenarios/crossing.yaml"}) {
+  for (const char* f : {"deploy/scenarios/pedestrians.yaml", "deploy/scenarios/crossing.yaml",
+                        "deploy/scenarios/corridor.yaml", "deploy/scenarios/hall.yaml"}) {
     const std::string text = readFile(f);
     ASSERT_FALSE(text.empty()) << f;
     ScenarioError err;

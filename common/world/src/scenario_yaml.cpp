@@ -272,7 +272,7 @@ std::optional<Scenario> parseScenarioYaml(const std::string& text, const std::st
 
 std::optional<ScenarioSpec> parseScenarioSpec(const std::string& spec, std::string* error) {
   ScenarioSpec out;
-  if (spec == "pedestrians" || spec == "crossing") {
+  if (spec == "pedestrians" || spec == "crossing" || spec == "corridor" || spec == "hall") {
     out.kind = ScenarioSpec::Kind::kBuiltin;
     out.name = spec;
     return out;

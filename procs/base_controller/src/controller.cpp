@@ -34,6 +34,14 @@ BaseController::BaseController(const BaseControllerParams& params)
 
 BaseControllerOutput BaseController::onPose(const ucon::robot_pose_t& pose) {
   ++n_.poses_in;
+  if (pose.utime > 0 && !pose.valid && (!pose_ || pose.utime >= pose_->utime)) {
+    // The source says it is not localised (odometry lost, IMU only for too long): stop now
+    // rather than after the staleness timeout, and stay stopped until a valid pose and a new plan.
+    ++n_.poses_bad;
+    clock_.observe(pose.utime);
+    pose_invalid_ = true;
+    return {};
+  }
   if (pose.utime <= 0 || !pose.valid || !poseFinite(pose)) {
     ++n_.poses_bad;
     return {};
@@ -44,6 +52,7 @@ BaseControllerOutput BaseController::onPose(const ucon::robot_pose_t& pose) {
   }
   clock_.observe(pose.utime);
   pose_ = pose;
+  pose_invalid_ = false;
   return {};
 }
 
@@ -136,6 +145,7 @@ BaseController::Decision BaseController::evaluate(int64_t now) {
   if (!input_fault_.empty()) return {Decision::kFault, base_status_t::STATE_STOPPING, input_fault_};
   if (!have_traj_) return {Decision::kIdle, base_status_t::STATE_IDLE, idle_reason_};
   if (!pose_) return {Decision::kFault, base_status_t::STATE_STOPPING, "watchdog: no pose received"};
+  if (pose_invalid_) return {Decision::kFault, base_status_t::STATE_STOPPING, "pose invalid (the pose source is not localised)"};
   // Ages compared in whole microseconds so that "200 ms" means exactly 200000 us.
   if (now - pose_->utime >= std::llround(w.pose_timeout_s * 1e6)) {
     return {Decision::kFault, base_status_t::STATE_STOPPING, "watchdog: pose stale"};

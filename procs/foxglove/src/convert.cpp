@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "ucon/channels.hpp"
 #include "ucon/config.hpp"
 #include "ucon/foxglove/foxglove_schemas.hpp"
 #include "ucon/foxglove/json_writer.hpp"
@@ -397,7 +398,11 @@ std::vector<FoxgloveTopic> foxgloveTopicsFor(const std::string& channel, const s
   const std::string c = "/" + lower(channel);
   if (type_name == "ucon.point_cloud_t") return {{c, kPointCloud}};
   if (type_name == "ucon.static_points_t") return {{c, kPointCloud}, {"/map", kGrid}};
-  if (type_name == "ucon.robot_pose_t") return {{"/tf", kFrameTransform}, {c, kPoseInFrame}};
+  // Only the pose the stack drives on moves the base frame; another pose source beside it
+  // (ODOMETRY_POSE while the simulator gives ROBOT_POSE) is a pose of its own.
+  if (type_name == "ucon.robot_pose_t" && channel == channels::kRobotPose)
+    return {{"/tf", kFrameTransform}, {c, kPoseInFrame}};
+  if (type_name == "ucon.robot_pose_t") return {{c, kPoseInFrame}};
   if (type_name == "ucon.sim_ground_truth_t")
     return {{"/tf", kFrameTransform}, {c + "/pose", kPoseInFrame}, {c + "/objects", kSceneUpdate}};
   if (type_name == "ucon.tracked_objects_t") return {{c, kSceneUpdate}};
@@ -456,7 +461,7 @@ bool FoxgloveConverter::convert(const std::string& channel, const LcmTypeInfo& t
     } else {
       qw /= norm, qx /= norm, qy /= norm, qz /= norm;
     }
-    if (m.valid && finite(m.x, m.y) && std::isfinite(m.z)) {
+    if (channel == channels::kRobotPose && m.valid && finite(m.x, m.y) && std::isfinite(m.z)) {
       JsonWriter t(&emit("/tf", kFrameTransform));
       t.beginObject();
       writeTime(t, "timestamp", utime);

@@ -13,6 +13,10 @@ namespace replay {
 
 std::unique_ptr<NodeAdapter> makeBaseControllerAdapter(const std::string& yaml, const std::string& source,
                                                        std::string* error);
+#ifdef UCON_REPLAY_HAVE_ODOMETRY
+std::unique_ptr<NodeAdapter> makeOdometryAdapter(const std::string& yaml, const std::string& source,
+                                                 std::string* error);
+#endif
 #ifdef UCON_REPLAY_HAVE_PERCEPTION
 std::unique_ptr<NodeAdapter> makePerceptionAdapter(const std::string& yaml, const std::string& source,
                                                    std::string* error);

@@ -31,11 +31,14 @@ std::vector<std::string> availableNodes() {
   out.push_back("planner");
 #endif
   out.push_back("base_controller");
+#ifdef UCON_REPLAY_HAVE_ODOMETRY
+  out.push_back("odometry");
+#endif
   return out;
 }
 
 bool isKnownNode(const std::string& node) {
-  return node == "perception" || node == "planner" || node == "base_controller";
+  return node == "perception" || node == "planner" || node == "base_controller" || node == "odometry";
 }
 
 std::string configErrorText(const std::string& source, const std::vector<ConfigError>& errors) {
@@ -48,6 +51,9 @@ std::string configErrorText(const std::string& source, const std::vector<ConfigE
 std::unique_ptr<NodeAdapter> makeAdapter(const std::string& node, const std::string& config_yaml,
                                          const std::string& source, std::string* error) {
   if (node == "base_controller") return makeBaseControllerAdapter(config_yaml, source, error);
+#ifdef UCON_REPLAY_HAVE_ODOMETRY
+  if (node == "odometry") return makeOdometryAdapter(config_yaml, source, error);
+#endif
 #ifdef UCON_REPLAY_HAVE_PERCEPTION
   if (node == "perception") return makePerceptionAdapter(config_yaml, source, error);
 #endif

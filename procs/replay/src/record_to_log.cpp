@@ -7,6 +7,9 @@
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/runtime/log_reader.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
+#ifdef UCON_REPLAY_HAVE_ODOMETRY
+#include "ucon/odometry/params.hpp"
+#endif
 
 namespace ucon {
 namespace replay {
@@ -95,6 +98,20 @@ bool recordToLog(const RecordingSpec& spec, const std::string& out_path, RecordS
     const std::string path = spec.config_dir + "/" + n + ".yaml";
     auto t = runtime::readTextFile(path, &err);
     if (!t) return failed(err);
+#ifdef UCON_REPLAY_HAVE_ODOMETRY
+    if (n == "odometry") {
+      // The odometry gives the robot's pose: the simulator publishes none, and the odometry
+      // starts at the scenario's start (recorded in the config text the log keeps).
+      cfg.sim.pose_source = "none";
+      for (auto& [k, v] : cfg.metadata) {
+        const std::string from = "pose_source: ground_truth";
+        const auto at = k == "config/simulator.yaml" ? v.find(from) : std::string::npos;
+        if (at != std::string::npos) v.replace(at, from.size(), "pose_source: none");
+      }
+      t = odometry::withInitialPose(*t, Eigen::Vector3d(sc->robot.start.x(), sc->robot.start.y(), sc->robot.start_yaw));
+      if (!t) return failed(path + ": no init.pose to set the scenario's start in");
+    }
+#endif
     auto a = makeAdapter(n, *t, path, &err);
     if (!a) return failed(err);
     if (n == "planner") cfg.scripted_plan = false;
@@ -105,7 +122,7 @@ bool recordToLog(const RecordingSpec& spec, const std::string& out_path, RecordS
 
   // Like ucon-logger, the metadata holds the configs of every node (in the loop or not), so
   // `ucon-replay --config-from-log` can replay any of them over this log.
-  for (const char* n : {"perception", "planner", "base_controller"}) {
+  for (const char* n : {"perception", "planner", "base_controller", "odometry"}) {
     const std::string key = std::string("config/") + n + ".yaml";
     bool have = false;
     for (const auto& kv : cfg.metadata) have = have || kv.first == key;

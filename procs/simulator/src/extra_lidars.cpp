@@ -54,10 +54,7 @@ bool Simulator::makePointDatagram(const SensorState& st, uint64_t stamp_ns, uint
 
 void Simulator::emitExtraPackets(int64_t t_ns, SimOutputs& out) {
   if (extras_.empty() || !options_.make_packets) return;
-  const auto& s = plant_.state();
-  Eigen::Isometry3d T_wb = Eigen::Isometry3d::Identity();
-  T_wb.linear() = Eigen::AngleAxisd(s.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  T_wb.translation() = Eigen::Vector3d(s.x, s.y, 0.0);
+  const Eigen::Isometry3d T_wb = basePose();  // with the vibration's roll and pitch, as the main sensor
   const uint64_t stamp_ns = static_cast<uint64_t>(params_.start_utime) * 1000ULL + static_cast<uint64_t>(t_ns);
   const int64_t frame = t_ns / frame_period_ns_;
   for (std::size_t i = 0; i < extras_.size(); ++i) {

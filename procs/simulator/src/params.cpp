@@ -32,9 +32,20 @@ void ImuParams::read(ConfigReader& r) {
   r.read("rate_hz", rate_hz, 1.0, 2000.0);
   r.read("gyro_noise_sigma", gyro_noise_sigma, 0.0, 1.0);
   r.read("acc_noise_sigma", acc_noise_sigma, 0.0, 10.0);
+  r.read("gyro_bias_walk", gyro_bias_walk, 0.0, 1.0);
+  r.read("acc_bias_walk", acc_bias_walk, 0.0, 10.0);
+  r.read("gyro_bias", gyro_bias, 3, -1.0, 1.0);
+  r.read("acc_bias", acc_bias, 3, -10.0, 10.0);
+  r.read("position", position, 3, -1.0, 1.0);
+  r.read("time_offset_s", time_offset_s, -0.1, 0.1);
   const double period = 1e9 / rate_hz;
   if (std::fabs(period - std::round(period)) > 1e-6)
     r.fail("rate_hz", "1e9 / rate_hz must be a whole number of nanoseconds");
+}
+
+void VibrationParams::read(ConfigReader& r) {
+  r.read("amplitude_deg", amplitude_deg, 0.0, 5.0);
+  r.read("frequency_hz", frequency_hz, 1e-3, 50.0);
 }
 
 void NetParams::read(ConfigReader& r) {
@@ -65,10 +76,13 @@ void SimulatorParams::read(ConfigReader& r) {
   r.read("pose_rate_hz", pose_rate_hz, 1.0, 1000.0);
   r.read("cmd_timeout_s", cmd_timeout_s, 1e-3, 10.0);
   r.read("status_period_s", status_period_s, 1e-3, 60.0);
+  r.read("pose_source", pose_source, {"ground_truth", "none"});
   auto l = r.section("lidar");
   lidar.read(l);
   auto i = r.section("imu");
   imu.read(i);
+  auto v = r.section("vibration");
+  vibration.read(v);
   auto n = r.section("net");
   net.read(n);
   extra_lidars.clear();
@@ -101,6 +115,12 @@ std::string SimulatorParams::validate() const {
   if (!(imu.rate_hz >= 1.0 && imu.rate_hz <= 2000.0)) return "imu.rate_hz: must be in [1, 2000]";
   if (!(frame_rate_hz >= 1.0 && frame_rate_hz <= 100.0)) return "frame_rate_hz: must be in [1, 100]";
   if (!(pose_rate_hz >= 1.0 && pose_rate_hz <= 1000.0)) return "pose_rate_hz: must be in [1, 1000]";
+  if (pose_source != "ground_truth" && pose_source != "none") return "pose_source: must be ground_truth or none";
+  if (imu.gyro_bias.size() != 3 || imu.acc_bias.size() != 3 || imu.position.size() != 3)
+    return "imu.gyro_bias, acc_bias, position: need 3 values each";
+  if (!(std::fabs(imu.time_offset_s) <= 0.1)) return "imu.time_offset_s: must be within +-0.1 s";
+  if (!(vibration.amplitude_deg >= 0.0 && vibration.amplitude_deg <= 5.0)) return "vibration.amplitude_deg: must be in [0, 5]";
+  if (!(vibration.frequency_hz > 0.0)) return "vibration.frequency_hz: must be > 0";
   const std::string b = base.validate();
   if (!b.empty()) return "base." + b;
   for (std::size_t i = 0; i < extra_lidars.size(); ++i) {

@@ -12,6 +12,11 @@ namespace simulator {
 namespace {
 
 constexpr double kGravity = 9.80665;
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Vector3d vec3(const std::vector<double>& v) {
+  return v.size() == 3 ? Eigen::Vector3d(v[0], v[1], v[2]) : Eigen::Vector3d::Zero();
+}
 
 SensorState initialState(const SimulatorParams& p) {
   SensorState s;
@@ -61,6 +66,10 @@ Simulator::Simulator(const SimulatorParams& params, world::Scenario scenario, Si
       imu_period_ns_(periodNs(params.imu.rate_hz)),
       pose_period_ns_(periodNs(params.pose_rate_hz)),
       frame_period_ns_(periodNs(params.frame_rate_hz)),
+      gyro_bias_(vec3(params.imu.gyro_bias)),
+      acc_bias_(vec3(params.imu.acc_bias)),
+      imu_position_(vec3(params.imu.position)),
+      imu_time_offset_ns_(static_cast<int64_t>(std::llround(params.imu.time_offset_s * 1e9))),
       min_clearance_(std::numeric_limits<double>::infinity()) {
   const auto& r = world_.scenario().robot;
   plant_.reset(r.start.x(), r.start.y(), r.start_yaw);
@@ -70,13 +79,34 @@ Simulator::Simulator(const SimulatorParams& params, world::Scenario scenario, Si
   initExtraLidars();
 }
 
-Eigen::Isometry3d Simulator::sensorPose() const {
+void Simulator::vibration(int64_t t_ns, double* roll, double* pitch, double* droll, double* dpitch) const {
+  const double a = params_.vibration.amplitude_deg * kPi / 180.0;
+  if (a <= 0.0) {
+    *roll = *pitch = *droll = *dpitch = 0.0;
+    return;
+  }
+  const double t = static_cast<double>(t_ns) * 1e-9;
+  const double w1 = 2.0 * kPi * params_.vibration.frequency_hz, w2 = 1.37 * w1;
+  *roll = a * std::sin(w1 * t);
+  *pitch = a * std::sin(w2 * t + 1.0);
+  *droll = a * w1 * std::cos(w1 * t);
+  *dpitch = a * w2 * std::cos(w2 * t + 1.0);
+}
+
+Eigen::Isometry3d Simulator::basePose() const {
   const auto& s = plant_.state();
+  double roll, pitch, dr, dp;
+  vibration(now_ns_, &roll, &pitch, &dr, &dp);
   Eigen::Isometry3d T_wb = Eigen::Isometry3d::Identity();
   T_wb.linear() = Eigen::AngleAxisd(s.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  if (roll != 0.0 || pitch != 0.0)
+    T_wb.linear() = T_wb.linear() * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+                    Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()).toRotationMatrix();
   T_wb.translation() = Eigen::Vector3d(s.x, s.y, 0.0);
-  return T_wb * lidar_.mount();
+  return T_wb;
 }
+
+Eigen::Isometry3d Simulator::sensorPose() const { return basePose() * lidar_.mount(); }
 
 void Simulator::stepPlantTo(int64_t t_ns) {
   if (cmd_active_ && t_ns - last_cmd_ns_ > static_cast<int64_t>(params_.cmd_timeout_s * 1e9)) {
@@ -206,31 +236,44 @@ void Simulator::emitPacket(int64_t t_ns, SimOutputs& out) {
 
 void Simulator::emitImu(int64_t t_ns, SimOutputs& out) {
   const auto& s = plant_.state();
-  const Eigen::Isometry3d T_ws = sensorPose();
+  const Eigen::Isometry3d T_wb = basePose();
+  const Eigen::Isometry3d T_ws = T_wb * lidar_.mount();
   const Eigen::Matrix3d R_ws = T_ws.linear();
-  // Velocity of the sensor point: v_base + w x r (r = base origin -> sensor, world frame).
-  const Eigen::Vector3d omega(0.0, 0.0, s.body.wz);
-  const Eigen::Vector3d r = T_ws.translation() - Eigen::Vector3d(s.x, s.y, 0.0);
+  // World angular velocity: yaw rate plus the vibration's Euler rates, w = E(rpy) d(rpy)/dt.
+  double roll, pitch, droll, dpitch;
+  vibration(t_ns, &roll, &pitch, &droll, &dpitch);
+  const double cy = std::cos(s.yaw), sy = std::sin(s.yaw), cp = std::cos(pitch), sp = std::sin(pitch);
+  const Eigen::Vector3d omega(cy * cp * droll - sy * dpitch, sy * cp * droll + cy * dpitch, -sp * droll + s.body.wz);
+  // Velocity of the IMU point: v_base + w x r (r = base origin -> IMU, world frame).
+  const Eigen::Vector3d p_imu = T_ws * imu_position_;
+  const Eigen::Vector3d r = p_imu - T_wb.translation();
   const Eigen::Vector3d v = Eigen::Vector3d(s.vx_world, s.vy_world, 0.0) + omega.cross(r);
+  const double dt = static_cast<double>(imu_period_ns_) * 1e-9;
   Eigen::Vector3d a = Eigen::Vector3d::Zero();
-  if (have_prev_imu_) a = (v - prev_sensor_vel_) / (static_cast<double>(imu_period_ns_) * 1e-9);
+  if (have_prev_imu_) a = (v - prev_sensor_vel_) / dt;
   prev_sensor_vel_ = v;
   have_prev_imu_ = true;
   // Specific force: acceleration minus gravity (gravity is -g along world z).
   const Eigen::Vector3d f = R_ws.transpose() * (a + Eigen::Vector3d(0.0, 0.0, kGravity));
   const Eigen::Vector3d w = R_ws.transpose() * omega;
+  // Bias random walk, then white noise (12 draws per sample, always, so the noise sequence
+  // does not depend on the motion).
+  const double sq = std::sqrt(dt);
+  for (int i = 0; i < 3; ++i) gyro_bias_[i] += params_.imu.gyro_bias_walk * sq * imu_rng_.normal();
+  for (int i = 0; i < 3; ++i) acc_bias_[i] += params_.imu.acc_bias_walk * sq * imu_rng_.normal();
   livox::ImuSample sample;
   const double gs = params_.imu.gyro_noise_sigma, as = params_.imu.acc_noise_sigma;
-  sample.gyro_x = static_cast<float>(w.x() + gs * imu_rng_.normal());
-  sample.gyro_y = static_cast<float>(w.y() + gs * imu_rng_.normal());
-  sample.gyro_z = static_cast<float>(w.z() + gs * imu_rng_.normal());
-  sample.acc_x = static_cast<float>(f.x() + as * imu_rng_.normal());
-  sample.acc_y = static_cast<float>(f.y() + as * imu_rng_.normal());
-  sample.acc_z = static_cast<float>(f.z() + as * imu_rng_.normal());
+  sample.gyro_x = static_cast<float>(w.x() + gyro_bias_.x() + gs * imu_rng_.normal());
+  sample.gyro_y = static_cast<float>(w.y() + gyro_bias_.y() + gs * imu_rng_.normal());
+  sample.gyro_z = static_cast<float>(w.z() + gyro_bias_.z() + gs * imu_rng_.normal());
+  sample.acc_x = static_cast<float>(f.x() + acc_bias_.x() + as * imu_rng_.normal());
+  sample.acc_y = static_cast<float>(f.y() + acc_bias_.y() + as * imu_rng_.normal());
+  sample.acc_z = static_cast<float>(f.z() + acc_bias_.z() + as * imu_rng_.normal());
   const SensorState& st = control_.state();
   if (!options_.make_packets || !st.sampling() || !st.imu_enabled) return;
   livox::PacketInfo info;
-  info.timestamp_ns = static_cast<uint64_t>(params_.start_utime) * 1000ULL + static_cast<uint64_t>(t_ns);
+  info.timestamp_ns = static_cast<uint64_t>(
+      std::max<int64_t>(1, params_.start_utime * 1000 + t_ns + imu_time_offset_ns_));
   info.udp_cnt = imu_cnt_++;
   info.frame_cnt = frame_cnt_;
   info.time_type = livox::TimeType::kNone;
@@ -281,6 +324,7 @@ void Simulator::emitPose(int64_t t_ns, SimOutputs& out) {
   prev_pose_vx_ = s.vx_world;
   prev_pose_vy_ = s.vy_world;
   m.cov_size = 0;
+  if (params_.pose_source == "none") return;  // the odometry publishes the pose
   out.poses.push_back(std::move(m));
   ++counters_.poses;
 }

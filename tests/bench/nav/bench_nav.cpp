@@ -112,6 +112,8 @@ int main(int argc, char** argv) {
                "diagnosis: perception's tracks, each with the velocity of the ground-truth mover within 0.8 m");
   app.add_flag("--oracle-static", oracle.static_map,
                "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
+  app.add_option("--pose", setup.pose, "robot pose: ground_truth (the simulator's) | odometry (LiDAR-inertial)")
+      ->check(CLI::IsMember({"ground_truth", "odometry"}));
   app.add_flag("--serial", pipeline.serial,
                "run every node on the loop's thread with a zero-latency bus (default: perception and planner "
                "on threads of their own, outputs delivered after a fixed latency)");

@@ -1,5 +1,7 @@
 #include "run.hpp"
 
+#include "odometry_in_loop.hpp"
+
 #include <memory>
 #include <vector>
 
@@ -68,6 +70,11 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   cfg.sim = setup.sim;
   cfg.driver = setup.driver;
   cfg.scenario = *sc;
+  std::unique_ptr<rp::NodeAdapter> odometry;
+  if (setup.pose == "odometry") {
+    if (!(odometry = ucon::bench::odometryInLoop(setup.config_dir, *sc, &cfg.sim, &res.error))) return res;
+    loop.push_back(odometry.get());
+  }
   cfg.duration_s = timeout_s + 0.1;  // the mission ends the run at timeout_s of pose time
   cfg.send_goal = false;             // the mission sends the goals
   cfg.scripted_plan = false;         // the planner plans

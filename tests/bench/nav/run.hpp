@@ -23,6 +23,7 @@ struct Setup {
   mission::MissionParams mission;
   std::map<std::string, std::string> node_yaml;  // node name -> YAML text
   std::string config_dir, scenario_dir;
+  std::string pose = "ground_truth";  ///< --pose: ground_truth | odometry (odometry_in_loop.hpp)
 };
 
 /// How the nodes share the machine: pipelined (perception and planner on threads of their

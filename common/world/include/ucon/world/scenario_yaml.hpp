@@ -1,7 +1,7 @@
 #pragma once
 /// @file scenario_yaml.hpp
 /// Scenario files (deploy/scenarios/*.yaml) parsed from text, and the scenario spec strings
-/// accepted by the simulator (`pedestrians`, `crossing`, `bench:<N_d>:<seed>`, a path).
+/// accepted by the simulator (`pedestrians`, `crossing`, `corridor`, `hall`, `bench:<N_d>:<seed>`, a path).
 ///
 /// File format (every key below; unknown keys are errors, optional keys marked):
 /// @code
@@ -52,12 +52,12 @@ std::optional<Scenario> parseScenarioYaml(const std::string& text, const std::st
 /// What a scenario spec string asks for.
 struct ScenarioSpec {
   enum class Kind { kBuiltin, kBench, kFile } kind = Kind::kFile;
-  std::string name;   ///< builtin name ("pedestrians", "crossing") or file path
+  std::string name;   ///< builtin name ("pedestrians", "crossing", "corridor", "hall") or file path
   int num_moving = 0; ///< bench: N_d
   uint64_t seed = 0;  ///< bench: seed
 };
 
-/// Parses "pedestrians" | "crossing" | "bench:<N_d>:<seed>" | anything else = a file path.
+/// Parses "pedestrians" | "crossing" | "corridor" | "hall" | "bench:<N_d>:<seed>" | anything else = a file path.
 /// Returns nullopt (and `error`) for a malformed bench spec.
 std::optional<ScenarioSpec> parseScenarioSpec(const std::string& spec, std::string* error);
 

@@ -40,7 +40,7 @@ struct BaseControllerOutput {
 /// scaled as a whole when a wheel would exceed max_wheel_speed (direction kept), then
 /// rate-limited (max_linear_accel, max_yaw_accel) and converted by inverse kinematics.
 ///
-/// Safety: no pose for watchdog.pose_timeout_s, no trajectory message for
+/// Safety: no pose for watchdog.pose_timeout_s, a pose marked invalid, no trajectory message for
 /// trajectory_timeout_s, an expired or invalid trajectory, or an E-stop -> the commanded twist
 /// ramps to zero at stop_linear_decel / stop_angular_decel (direction kept) and the state says
 /// why. After such a stop the base moves again only when the pose is fresh and a valid
@@ -52,8 +52,9 @@ class BaseController {
  public:
   explicit BaseController(const BaseControllerParams& params);
 
-  /// Stores the pose. Invalid poses (valid=false, non-finite fields, utime <= 0) are counted
-  /// and dropped (the watchdog then sees no fresh pose).
+  /// Stores the pose. A pose marked valid = false stops the base at once (the source is not
+  /// localised) until a valid one arrives; non-finite fields or utime <= 0 are counted and
+  /// dropped (the watchdog then sees no fresh pose).
   BaseControllerOutput onPose(const ucon::robot_pose_t& pose);
 
   /// Takes a new plan. A malformed one (NaN coefficients, tiny pieces, wrong sizes), one that
@@ -116,6 +117,7 @@ class BaseController {
 
   // Inputs.
   std::optional<ucon::robot_pose_t> pose_;
+  bool pose_invalid_ = false;       // the newest pose message said valid = false
   trajectory::PiecewisePolynomial traj_;
   bool have_traj_ = false;          // traj_ holds an accepted plan
   int64_t traj_msg_utime_ = 0;      // utime of the latest trajectory message (any outcome)

@@ -30,11 +30,32 @@ struct LidarParams {
   void read(ConfigReader& r);
 };
 
-/// The IMU inside the Mid-360 (sensor frame).
+/// The IMU inside the Mid-360 (sensor frame): white noise, a bias that starts at a constant
+/// and random-walks, its offset from the LiDAR origin, an optional clock offset.
 struct ImuParams {
   double rate_hz = 200.0;             ///< [Hz], [1, 2000]; 1e9/rate must be whole ns
-  double gyro_noise_sigma = 0.002;    ///< [rad/s], [0, 1]
-  double acc_noise_sigma = 0.02;      ///< [m/s^2], [0, 10]
+  /// White noise per sample [rad/s], [0, 1]: the ICM-40609-D datasheet's 4.5 mdps/sqrt(Hz) at 200 Hz.
+  double gyro_noise_sigma = 0.0011;
+  /// White noise per sample [m/s^2], [0, 10]: 100 ug/sqrt(Hz) at 200 Hz.
+  double acc_noise_sigma = 0.014;
+  /// Gyro bias random walk [rad/s/sqrt(s)], [0, 1]: no datasheet figure; FAST-LIO's Mid-360
+  /// configuration (b_gyr_cov 1e-4 per step, squared step, 200 Hz) gives 7.1e-4.
+  double gyro_bias_walk = 7.1e-4;
+  double acc_bias_walk = 7.1e-4;      ///< accelerometer bias random walk [m/s^2/sqrt(s)], [0, 10]; as above
+  std::vector<double> gyro_bias{0.002, -0.003, 0.0015};  ///< bias at start, sensor frame [rad/s], |.| <= 1
+  std::vector<double> acc_bias{0.04, -0.03, 0.05};       ///< bias at start, sensor frame [m/s^2], |.| <= 10
+  std::vector<double> position{0.011, 0.023, -0.044};    ///< IMU origin in the sensor frame [m] (the Mid-360's)
+  double time_offset_s = 0.0;         ///< IMU stamps minus true sample time [s], [-0.1, 0.1]
+
+  void read(ConfigReader& r);
+};
+
+/// Small roll and pitch of the whole robot (floor roughness, motor vibration): two sinusoids,
+/// roll = A sin(2 pi f t), pitch = A sin(2 pi 1.37 f t + 1). The LiDAR and the IMU see it;
+/// ground truth (planar) does not.
+struct VibrationParams {
+  double amplitude_deg = 0.0;         ///< A [deg], [0, 5]; 0 = off
+  double frequency_hz = 8.0;          ///< f [Hz], (0, 50]
 
   void read(ConfigReader& r);
 };
@@ -74,8 +95,12 @@ struct SimulatorParams {
   double pose_rate_hz = 100.0;        ///< ROBOT_POSE rate [Hz], [1, 1000]
   double cmd_timeout_s = 0.5;         ///< wheels brake when no BASE_WHEEL_CMD for this long [s], (0, 10]
   double status_period_s = 1.0;       ///< SIM_STATUS period [s] (wall time), (0, 60]
+  /// ROBOT_POSE source: "ground_truth" (the simulator publishes the exact pose) or "none"
+  /// (it publishes none; the odometry does). SIM_GROUND_TRUTH is published either way.
+  std::string pose_source = "ground_truth";
   LidarParams lidar;
   ImuParams imu;
+  VibrationParams vibration;
   NetParams net;
   std::vector<ExtraLidarParams> extra_lidars;  ///< more Mid-360s (0 to 7); empty: one sensor
   /// Section `base`: geometry keys + motor_time_constant, max_wheel_accel; the ucon::mecanum

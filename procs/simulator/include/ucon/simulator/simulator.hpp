@@ -11,7 +11,8 @@
 ///    convention: point i at timestamp + i * time_interval / dot_num);
 ///  - a LiDAR frame is 1/frame_rate_hz long: frame_cnt increments and udp_cnt restarts at the
 ///    first packet of each frame; SIM_GROUND_TRUTH is sampled at each frame start;
-///  - IMU at imu.rate_hz, ROBOT_POSE at pose_rate_hz.
+///  - IMU at imu.rate_hz (stamped imu.time_offset_s late), ROBOT_POSE at pose_rate_hz (none
+///    with pose_source "none").
 /// Livox timestamps are (start_utime * 1000 + t) ns with time_type 0, so the driver's utime,
 /// ROBOT_POSE and SIM_GROUND_TRUTH share one clock.
 
@@ -111,6 +112,11 @@ class Simulator {
   bool inCollision() const { return in_collision_; }
   /// World pose of the sensor now.
   Eigen::Isometry3d sensorPose() const;
+  /// World pose of the base now: the plant's planar pose with the vibration's roll and pitch.
+  Eigen::Isometry3d basePose() const;
+  /// The IMU's current biases in the sensor frame: gyro [rad/s], accelerometer [m/s^2].
+  const Eigen::Vector3d& gyroBias() const { return gyro_bias_; }
+  const Eigen::Vector3d& accBias() const { return acc_bias_; }
 
  private:
   void stepPlantTo(int64_t t_ns);
@@ -159,6 +165,11 @@ class Simulator {
   point_cloud_t cloud_{};
   int64_t cloud_seq_ = 0;
 
+  // Roll, pitch [rad] of the vibration at t_ns and their rates [rad/s].
+  void vibration(int64_t t_ns, double* roll, double* pitch, double* droll, double* dpitch) const;
+
+  Eigen::Vector3d gyro_bias_, acc_bias_, imu_position_;
+  int64_t imu_time_offset_ns_ = 0;
   Eigen::Vector3d prev_sensor_vel_ = Eigen::Vector3d::Zero();
   bool have_prev_imu_ = false;
   double prev_pose_vx_ = 0.0, prev_pose_vy_ = 0.0;

@@ -1,0 +1,251 @@
+#include "ucon/lio/voxel_map.hpp"
+
+#include <tsl/robin_map.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ucon {
+namespace lio {
+
+namespace {
+
+constexpr int kBits = 21;
+constexpr uint64_t kMask = (uint64_t{1} << kBits) - 1;
+
+uint64_t packKey(int32_t x, int32_t y, int32_t z) {
+  return ((static_cast<uint64_t>(x) & kMask) << (2 * kBits)) | ((static_cast<uint64_t>(y) & kMask) << kBits) |
+         (static_cast<uint64_t>(z) & kMask);
+}
+
+// Sign-extends a kBits-wide field.
+int32_t field(uint64_t key, int shift) {
+  const int64_t v = static_cast<int64_t>((key >> shift) & kMask);
+  return static_cast<int32_t>(v >= (int64_t{1} << (kBits - 1)) ? v - (int64_t{1} << kBits) : v);
+}
+
+// splitmix64's finaliser: neighbouring keys land in unrelated buckets (the identity hash of
+// std::hash<uint64_t> would pile them into a few runs of robin_map's power-of-two table).
+struct KeyHash {
+  std::size_t operator()(uint64_t k) const {
+    k ^= k >> 30;
+    k *= 0xbf58476d1ce4e5b9ULL;
+    k ^= k >> 27;
+    k *= 0x94d049bb133111ebULL;
+    k ^= k >> 31;
+    return static_cast<std::size_t>(k);
+  }
+};
+
+}  // namespace
+
+struct VoxelMap::Impl {
+  struct Slot {
+    uint64_t key = 0;
+    int32_t count = 0;
+    int32_t prev = -1, next = -1;  // LRU list: head = most recently updated
+  };
+
+  tsl::robin_map<uint64_t, int32_t, KeyHash> index;
+  std::vector<Slot> slots;
+  std::vector<Eigen::Vector3f> pts;  // slot s holds pts[s * cap, s * cap + count)
+  std::vector<int32_t> free_slots;
+  int32_t head = -1, tail = -1;
+  std::size_t num_points = 0;
+  int cap = 20;
+  float voxel = 0.5f, inv_voxel = 2.0f, spacing2 = 0.01f;
+  int64_t max_voxels = 200000;
+  std::vector<Eigen::Vector3i> offsets;  // own voxel first
+
+  void unlink(int32_t s) {
+    Slot& sl = slots[static_cast<std::size_t>(s)];
+    if (sl.prev >= 0) slots[static_cast<std::size_t>(sl.prev)].next = sl.next; else head = sl.next;
+    if (sl.next >= 0) slots[static_cast<std::size_t>(sl.next)].prev = sl.prev; else tail = sl.prev;
+    sl.prev = sl.next = -1;
+  }
+  void pushFront(int32_t s) {
+    Slot& sl = slots[static_cast<std::size_t>(s)];
+    sl.prev = -1;
+    sl.next = head;
+    if (head >= 0) slots[static_cast<std::size_t>(head)].prev = s;
+    head = s;
+    if (tail < 0) tail = s;
+  }
+  void drop(int32_t s) {
+    Slot& sl = slots[static_cast<std::size_t>(s)];
+    index.erase(sl.key);
+    num_points -= static_cast<std::size_t>(sl.count);
+    sl.count = 0;
+    unlink(s);
+    free_slots.push_back(s);
+  }
+  int32_t allocate(uint64_t key) {
+    if (static_cast<int64_t>(index.size()) >= max_voxels && tail >= 0) drop(tail);
+    int32_t s;
+    if (!free_slots.empty()) {
+      s = free_slots.back();
+      free_slots.pop_back();
+    } else {
+      s = static_cast<int32_t>(slots.size());
+      slots.emplace_back();
+      pts.resize(pts.size() + static_cast<std::size_t>(cap));
+    }
+    slots[static_cast<std::size_t>(s)].key = key;
+    slots[static_cast<std::size_t>(s)].count = 0;
+    index.emplace(key, s);
+    pushFront(s);
+    return s;
+  }
+  uint64_t keyOf(const Eigen::Vector3f& p, Eigen::Vector3i* cell) const {
+    const Eigen::Vector3i c(static_cast<int32_t>(std::floor(p.x() * inv_voxel)),
+                            static_cast<int32_t>(std::floor(p.y() * inv_voxel)),
+                            static_cast<int32_t>(std::floor(p.z() * inv_voxel)));
+    if (cell) *cell = c;
+    return packKey(c.x(), c.y(), c.z());
+  }
+};
+
+VoxelMap::VoxelMap(const VoxelMapParams& params) : params_(params), impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.cap = std::max(1, std::min(64, params.max_points_per_voxel));
+  m.voxel = static_cast<float>(params.voxel_size > 0.0 ? params.voxel_size : 0.5);
+  m.inv_voxel = 1.0f / m.voxel;
+  m.spacing2 = static_cast<float>(params.min_point_spacing * params.min_point_spacing);
+  m.max_voxels = std::max<int64_t>(1, params.max_voxels);
+  m.offsets.emplace_back(0, 0, 0);
+  for (int axis = 0; axis < 3; ++axis)
+    for (int s : {-1, 1}) {
+      Eigen::Vector3i o = Eigen::Vector3i::Zero();
+      o[axis] = s;
+      m.offsets.push_back(o);
+    }
+  if (params.neighbourhood != Neighbourhood::kFaces) {
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nz = (dx != 0) + (dy != 0) + (dz != 0);
+          if (nz == 2 || (nz == 3 && params.neighbourhood == Neighbourhood::kAll)) m.offsets.emplace_back(dx, dy, dz);
+        }
+  }
+}
+
+VoxelMap::~VoxelMap() = default;
+VoxelMap::VoxelMap(VoxelMap&&) noexcept = default;
+VoxelMap& VoxelMap::operator=(VoxelMap&&) noexcept = default;
+
+bool VoxelMap::insert(const Eigen::Vector3f& p) {
+  if (!p.allFinite()) return false;
+  Impl& m = *impl_;
+  const uint64_t key = m.keyOf(p, nullptr);
+  int32_t s;
+  const auto it = m.index.find(key);
+  if (it == m.index.end()) {
+    s = m.allocate(key);
+  } else {
+    s = it->second;
+    if (m.head != s) {
+      m.unlink(s);
+      m.pushFront(s);
+    }
+  }
+  Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
+  if (sl.count >= m.cap) return false;
+  Eigen::Vector3f* base = &m.pts[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap)];
+  for (int i = 0; i < sl.count; ++i)
+    if ((base[i] - p).squaredNorm() < m.spacing2) return false;
+  base[sl.count++] = p;
+  ++m.num_points;
+  return true;
+}
+
+std::size_t VoxelMap::insert(const std::vector<Eigen::Vector3f>& points) {
+  std::size_t n = 0;
+  for (const auto& p : points) n += insert(p) ? 1 : 0;
+  return n;
+}
+
+int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neighbours* out) const {
+  out->count = 0;
+  if (!q.allFinite() || k <= 0) return 0;
+  k = std::min(k, Neighbours::kMax);
+  const Impl& m = *impl_;
+  Eigen::Vector3i c;
+  m.keyOf(q, &c);
+  const float max2 = max_distance * max_distance;
+  // Position of q inside its voxel, for the distance to a neighbour voxel's nearest face.
+  const Eigen::Vector3f lo = c.cast<float>() * m.voxel;
+  const Eigen::Vector3f in = q - lo;
+  int n = 0;
+  for (const Eigen::Vector3i& o : m.offsets) {
+    // Lower bound of the squared distance from q to any point of that voxel: skip it when it
+    // cannot beat the current k-th neighbour (the own voxel is searched first).
+    float bound = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      const float d = o[a] < 0 ? in[a] : o[a] > 0 ? m.voxel - in[a] : 0.0f;
+      bound += d * d;
+    }
+    if (bound >= max2 || (n == k && bound >= out->dist2[k - 1])) continue;
+    const Eigen::Vector3i cc = c + o;
+    const auto it = m.index.find(packKey(cc.x(), cc.y(), cc.z()));
+    if (it == m.index.end()) continue;
+    const int32_t s = it->second;
+    const int count = m.slots[static_cast<std::size_t>(s)].count;
+    const Eigen::Vector3f* base = &m.pts[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap)];
+    for (int i = 0; i < count; ++i) {
+      const float d2 = (base[i] - q).squaredNorm();
+      if (d2 >= max2 || (n == k && d2 >= out->dist2[k - 1])) continue;
+      // Insertion into the sorted list (strict '<': an equal distance keeps the earlier point).
+      int j = n < k ? n++ : k - 1;
+      while (j > 0 && out->dist2[j - 1] > d2) {
+        out->dist2[j] = out->dist2[j - 1];
+        out->points[j] = out->points[j - 1];
+        --j;
+      }
+      out->dist2[j] = d2;
+      out->points[j] = base[i];
+    }
+  }
+  out->count = n;
+  return n;
+}
+
+std::size_t VoxelMap::removeFar(const Eigen::Vector3d& center) {
+  Impl& m = *impl_;
+  const double r2 = params_.radius * params_.radius;
+  std::size_t dropped = 0;
+  for (int32_t s = m.head; s >= 0;) {
+    const Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
+    const int32_t next = sl.next;
+    const Eigen::Vector3d vc((field(sl.key, 2 * kBits) + 0.5) * m.voxel, (field(sl.key, kBits) + 0.5) * m.voxel,
+                             (field(sl.key, 0) + 0.5) * m.voxel);
+    if ((vc - center).squaredNorm() > r2) {
+      m.drop(s);
+      ++dropped;
+    }
+    s = next;
+  }
+  return dropped;
+}
+
+void VoxelMap::clear() {
+  const VoxelMapParams p = params_;
+  *this = VoxelMap(p);
+}
+
+std::size_t VoxelMap::numVoxels() const { return impl_->index.size(); }
+std::size_t VoxelMap::numPoints() const { return impl_->num_points; }
+
+std::vector<Eigen::Vector3f> VoxelMap::points() const {
+  const Impl& m = *impl_;
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(m.num_points);
+  for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
+    const auto& sl = m.slots[static_cast<std::size_t>(s)];
+    const Eigen::Vector3f* base = &m.pts[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap)];
+    out.insert(out.end(), base, base + sl.count);
+  }
+  return out;
+}
+
+}  // namespace lio
+}  // namespace ucon

@@ -1,0 +1,32 @@
+#include "odometry_in_loop.hpp"
+
+#include "ucon/channels.hpp"
+#include "ucon/odometry/params.hpp"
+#include "ucon/runtime/config_file.hpp"
+
+namespace ucon {
+namespace bench {
+
+std::unique_ptr<replay::NodeAdapter> odometryInLoop(const std::string& config_dir, const world::Scenario& scenario,
+                                                    simulator::SimulatorParams* sim, std::string* error) {
+  const std::string path = config_dir + "/odometry.yaml";
+  const auto text = runtime::readTextFile(path, error);
+  if (!text) return nullptr;
+  const auto yaml = odometry::withInitialPose(
+      *text, Eigen::Vector3d(scenario.robot.start.x(), scenario.robot.start.y(), scenario.robot.start_yaw));
+  if (!yaml) {
+    if (error) *error = path + ": no init.pose line to start the odometry at the scenario's start";
+    return nullptr;
+  }
+  auto a = replay::makeAdapter("odometry", *yaml, path, error);
+  if (!a) return nullptr;
+  if (a->outputChannels().empty() || a->outputChannels().front() != channels::kRobotPose) {
+    if (error) *error = path + ": pose_channel must be ROBOT_POSE for the stack to navigate on it";
+    return nullptr;
+  }
+  sim->pose_source = "none";
+  return a;
+}
+
+}  // namespace bench
+}  // namespace ucon

@@ -1,0 +1,159 @@
+// The incremental voxel map: nearest neighbours against brute force, the spacing and
+// per-voxel bounds, the LRU and distance bounds, determinism; voxel downsampling; scan-to-map
+// registration on a synthetic scene.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ucon/lio/registration.hpp"
+#include "ucon/lio/so3.hpp"
+#include "ucon/lio/voxel_map.hpp"
+#include "ucon/world/rng.hpp"
+
+using namespace ucon::lio;
+
+namespace {
+
+std::vector<Eigen::Vector3f> randomCloud(int n, double extent, uint64_t seed) {
+  ucon::world::Rng rng(seed);
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < n; ++i)
+    pts.emplace_back(static_cast<float>(rng.uniform(-extent, extent)), static_cast<float>(rng.uniform(-extent, extent)),
+                     static_cast<float>(rng.uniform(-extent, extent)));
+  return pts;
+}
+
+// Points on the floor and four walls of a 10 x 8 x 3 m room, plus two boxes, every `step` m.
+std::vector<Eigen::Vector3f> roomCloud(double step) {
+  std::vector<Eigen::Vector3f> pts;
+  for (double x = -5; x <= 5; x += step)
+    for (double y = -4; y <= 4; y += step) pts.emplace_back(x, y, 0.0);
+  for (double s = -5; s <= 5; s += step)
+    for (double z = 0; z <= 3; z += step) {
+      pts.emplace_back(s, -4.0, z);
+      pts.emplace_back(s, 4.0, z);
+    }
+  for (double s = -4; s <= 4; s += step)
+    for (double z = 0; z <= 3; z += step) {
+      pts.emplace_back(-5.0, s, z);
+      pts.emplace_back(5.0, s, z);
+    }
+  for (double a = 0; a <= 1; a += step)
+    for (double z = 0; z <= 1; z += step) {
+      pts.emplace_back(1.0 + a, 1.0, z);
+      pts.emplace_back(1.0, 1.0 + a, z);
+      pts.emplace_back(-2.0 + 0.7 * a, -1.5 + 0.7 * a, z);
+    }
+  return pts;
+}
+
+}  // namespace
+
+TEST(VoxelMap, GivenPointsWhenQueriedThenTheNearestEqualBruteForceWithinTheSearchedVoxels) {
+  VoxelMapParams p;
+  p.voxel_size = 0.5;
+  p.max_points_per_voxel = 64;
+  p.min_point_spacing = 0.0;
+  p.neighbourhood = Neighbourhood::kAll;
+  VoxelMap map(p);
+  const auto pts = randomCloud(3000, 3.0, 1);
+  EXPECT_EQ(map.insert(pts), pts.size());
+  EXPECT_EQ(map.numPoints(), pts.size());
+  const auto queries = randomCloud(200, 3.0, 2);
+  Neighbours nb;
+  for (const auto& q : queries) {
+    // Within 0.5 m (one voxel) the 3x3x3 block holds every candidate: exact kNN.
+    map.nearest(q, 5, 0.5f, &nb);
+    std::vector<float> d2;
+    for (const auto& p3 : pts) {
+      const float d = (p3 - q).squaredNorm();
+      if (d < 0.25f) d2.push_back(d);
+    }
+    std::sort(d2.begin(), d2.end());
+    ASSERT_EQ(nb.count, static_cast<int>(std::min<std::size_t>(5, d2.size())));
+    for (int i = 0; i < nb.count; ++i) EXPECT_FLOAT_EQ(nb.dist2[i], d2[static_cast<std::size_t>(i)]);
+  }
+}
+
+TEST(VoxelMap, GivenSpacingAndCapacityThenCloseAndSurplusPointsAreDropped) {
+  VoxelMapParams p;
+  p.voxel_size = 1.0;
+  p.max_points_per_voxel = 3;
+  p.min_point_spacing = 0.1;
+  VoxelMap map(p);
+  EXPECT_TRUE(map.insert(Eigen::Vector3f(0.5f, 0.5f, 0.5f)));
+  EXPECT_FALSE(map.insert(Eigen::Vector3f(0.55f, 0.5f, 0.5f)));  // 5 cm from a kept point
+  EXPECT_TRUE(map.insert(Eigen::Vector3f(0.7f, 0.5f, 0.5f)));
+  EXPECT_TRUE(map.insert(Eigen::Vector3f(0.9f, 0.5f, 0.5f)));
+  EXPECT_FALSE(map.insert(Eigen::Vector3f(0.1f, 0.1f, 0.1f)));   // voxel full
+  EXPECT_FALSE(map.insert(Eigen::Vector3f(NAN, 0.0f, 0.0f)));
+  EXPECT_EQ(map.numPoints(), 3u);
+  EXPECT_EQ(map.numVoxels(), 1u);
+}
+
+TEST(VoxelMap, GivenBoundsThenTheLeastRecentVoxelsAndTheFarOnesGo) {
+  VoxelMapParams p;
+  p.voxel_size = 1.0;
+  p.max_voxels = 10;
+  p.radius = 5.0;
+  VoxelMap map(p);
+  for (int i = 0; i < 20; ++i) map.insert(Eigen::Vector3f(static_cast<float>(i) + 0.5f, 0.5f, 0.5f));
+  EXPECT_EQ(map.numVoxels(), 10u);
+  Neighbours nb;
+  EXPECT_EQ(map.nearest(Eigen::Vector3f(0.5f, 0.5f, 0.5f), 1, 0.5f, &nb), 0);   // evicted (oldest)
+  EXPECT_EQ(map.nearest(Eigen::Vector3f(19.5f, 0.5f, 0.5f), 1, 0.5f, &nb), 1);  // newest kept
+  // Voxels 10..19 remain; within 5 m of x = 17: centres 12.5 .. 19.5 (8 voxels).
+  EXPECT_EQ(map.removeFar(Eigen::Vector3d(17.0, 0.5, 0.5)), 2u);
+  EXPECT_EQ(map.numVoxels(), 8u);
+  // Freed slots are reused.
+  map.insert(Eigen::Vector3f(30.5f, 0.5f, 0.5f));
+  EXPECT_EQ(map.numVoxels(), 9u);
+  EXPECT_EQ(map.points().front(), Eigen::Vector3f(30.5f, 0.5f, 0.5f));
+}
+
+TEST(VoxelMap, GivenTheSameInsertionsThenTheSameAnswers) {
+  VoxelMapParams p;
+  const auto pts = randomCloud(5000, 4.0, 3);
+  VoxelMap a(p), b(p);
+  a.insert(pts);
+  b.insert(pts);
+  a.removeFar(Eigen::Vector3d(1, 1, 1));
+  b.removeFar(Eigen::Vector3d(1, 1, 1));
+  EXPECT_EQ(a.points(), b.points());
+  Neighbours na, nb;
+  for (const auto& q : randomCloud(100, 4.0, 4)) {
+    a.nearest(q, 5, 1.0f, &na);
+    b.nearest(q, 5, 1.0f, &nb);
+    ASSERT_EQ(na.count, nb.count);
+    for (int i = 0; i < na.count; ++i) EXPECT_EQ(na.points[i], nb.points[i]);
+  }
+}
+
+TEST(VoxelDownsample, GivenACloudThenOnePointPerCellInInputOrder) {
+  const std::vector<Eigen::Vector3f> pts = {{0.1f, 0.1f, 0.1f}, {0.2f, 0.1f, 0.1f}, {1.1f, 0.1f, 0.1f},
+                                            {0.15f, 0.1f, 0.1f}, {-0.1f, 0.1f, 0.1f}};
+  const auto idx = voxelDownsampleIndices(pts, 0.5);
+  EXPECT_EQ(idx, (std::vector<int>{0, 2, 4}));
+  EXPECT_EQ(voxelDownsample(pts, 0.0).size(), pts.size());
+}
+
+TEST(Registration, GivenARoomScanOffsetBy30cmAnd5DegThenItIsAlignedToTheMillimetre) {
+  VoxelMapParams mp;
+  mp.voxel_size = 0.5;
+  VoxelMap map(mp);
+  map.insert(roomCloud(0.05));
+  Eigen::Isometry3d T_true = Eigen::Isometry3d::Identity();
+  T_true.linear() = expSO3(Eigen::Vector3d(0.01, -0.02, 5.0 * M_PI / 180.0));
+  T_true.translation() = Eigen::Vector3d(0.3, -0.2, 0.05);
+  // The scan: room points seen from T_true (in the scan frame), downsampled.
+  std::vector<Eigen::Vector3f> scan;
+  for (const auto& p : voxelDownsample(roomCloud(0.07), 0.25))
+    scan.push_back((T_true.inverse() * p.cast<double>()).cast<float>());
+  RegistrationParams rp;
+  rp.max_iterations = 30;
+  const auto r = registerPointToPlane(map, scan, Eigen::Isometry3d::Identity(), rp);
+  EXPECT_NEAR((r.T.translation() - T_true.translation()).norm(), 0.0, 2e-3);
+  EXPECT_NEAR(logSO3(r.T.linear().transpose() * T_true.linear()).norm(), 0.0, 1e-3);
+  EXPECT_GT(r.correspondences, static_cast<int>(scan.size()) / 2);
+}
