@@ -222,6 +222,9 @@ TEST(ShippedConfig, GivenPlannerYamlWhenLoadedThenEveryFieldEqualsTheInClassDefa
   c.expect("front_end.max_pieces", s.front_end.max_pieces, d.front_end.max_pieces);
   c.expect("front_end.guess_speed_ratio", s.front_end.guess_speed_ratio, d.front_end.guess_speed_ratio);
   c.expect("front_end.guess_accel_ratio", s.front_end.guess_accel_ratio, d.front_end.guess_accel_ratio);
+  c.expectEveryKeyChecked();
+}
+
 TEST(ShippedConfig, GivenOdometryYamlWhenLoadedThenEveryFieldEqualsTheInClassDefault) {
   ShippedConfig<ucon::odometry::OdometryParams> c("deploy/config/odometry.yaml");
   ASSERT_TRUE(c.loaded());
