@@ -24,7 +24,7 @@ namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
 namespace {
-class Session;
+class ClientConnection;
 }  // namespace
 
 class BridgeServer::Impl {
@@ -32,8 +32,8 @@ class BridgeServer::Impl {
   explicit Impl(const Options& o) : options(o), acceptor(ioc) {}
 
   void accept();
-  void addSession(const std::shared_ptr<Session>& s);
-  void removeSession(Session* s);
+  void addClient(const std::shared_ptr<ClientConnection>& s);
+  void removeClient(ClientConnection* s);
   void subscriptionsChanged(const std::vector<uint32_t>& added, const std::vector<uint32_t>& removed);
 
   Options options;
@@ -41,11 +41,11 @@ class BridgeServer::Impl {
   tcp::acceptor acceptor;
   std::thread thread;
   std::atomic<bool> stopping{false};
-  std::string session_id;
+  std::string instance_id;
 
   mutable std::mutex mutex;  // guards everything below
   std::map<uint32_t, WsChannel> channels;
-  std::map<Session*, std::shared_ptr<Session>> sessions;
+  std::map<ClientConnection*, std::shared_ptr<ClientConnection>> open_clients;
   std::map<uint32_t, int> subscribers;  // channel id -> clients subscribed
   std::vector<uint32_t> new_subscriptions;
   Stats stats;
@@ -55,9 +55,9 @@ namespace {
 
 // One WebSocket client. Its socket is used on the I/O thread only; its queues are filled from
 // the LCM thread under `mutex_`.
-class Session : public std::enable_shared_from_this<Session> {
+class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
  public:
-  Session(tcp::socket socket, BridgeServer::Impl* server)
+  ClientConnection(tcp::socket socket, BridgeServer::Impl* server)
       : ex_(socket.get_executor()),
         stream_(std::move(socket)),
         server_(server),
@@ -150,7 +150,7 @@ class Session : public std::enable_shared_from_this<Session> {
     bool full = false;
     {
       std::lock_guard<std::mutex> lock(server_->mutex);
-      full = static_cast<int>(server_->sessions.size()) >= server_->options.max_clients;
+      full = static_cast<int>(server_->open_clients.size()) >= server_->options.max_clients;
     }
     if (full) {
       refuseHttp(http::status::service_unavailable,
@@ -171,7 +171,7 @@ class Session : public std::enable_shared_from_this<Session> {
 
   void onAccept(beast::error_code ec) {
     if (ec) return;
-    server_->addSession(shared_from_this());
+    server_->addClient(shared_from_this());
     doRead();
   }
 
@@ -279,7 +279,7 @@ class Session : public std::enable_shared_from_this<Session> {
     });
   }
 
-  // The session is over (closed, failed): unregister it once.
+  // The connection is over (closed, failed): unregister it once.
   void finish() {
     if (finished_) return;
     finished_ = true;
@@ -289,7 +289,7 @@ class Session : public std::enable_shared_from_this<Session> {
       removed = subs_.channels();
     }
     server_->subscriptionsChanged({}, removed);
-    server_->removeSession(this);
+    server_->removeClient(this);
   }
 
   net::any_io_executor ex_;  // the I/O thread's, for work posted from the LCM thread
@@ -318,23 +318,23 @@ void BridgeServer::Impl::accept() {
     if (!ec) {
       beast::error_code ignored;
       socket.set_option(tcp::no_delay(true), ignored);
-      std::make_shared<Session>(std::move(socket), this)->start();
+      std::make_shared<ClientConnection>(std::move(socket), this)->start();
     }
     accept();
   });
 }
 
-void BridgeServer::Impl::addSession(const std::shared_ptr<Session>& s) {
+void BridgeServer::Impl::addClient(const std::shared_ptr<ClientConnection>& s) {
   std::vector<WsChannel> list;
   {
     std::lock_guard<std::mutex> lock(mutex);
-    sessions[s.get()] = s;
+    open_clients[s.get()] = s;
     ++stats.connections;
     for (const auto& [id, c] : channels) list.push_back(c);
   }
   OutFrame info;
   info.text = true;
-  info.head = serverInfoJson(options.name, session_id);
+  info.head = serverInfoJson(options.name, instance_id);
   s->sendControl(std::move(info));
   OutFrame adv;
   adv.text = true;
@@ -343,9 +343,9 @@ void BridgeServer::Impl::addSession(const std::shared_ptr<Session>& s) {
   if (stopping) s->close();
 }
 
-void BridgeServer::Impl::removeSession(Session* s) {
+void BridgeServer::Impl::removeClient(ClientConnection* s) {
   std::lock_guard<std::mutex> lock(mutex);
-  sessions.erase(s);
+  open_clients.erase(s);
 }
 
 void BridgeServer::Impl::subscriptionsChanged(const std::vector<uint32_t>& added,
@@ -383,7 +383,7 @@ std::unique_ptr<BridgeServer> BridgeServer::start(const Options& options, const 
     *error = "cannot listen on " + where + ": " + ec.message();
     return nullptr;
   }
-  impl->session_id = std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
+  impl->instance_id = std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
                                         std::chrono::system_clock::now().time_since_epoch())
                                         .count());
   for (const auto& c : channels) impl->channels[c.id] = c;
@@ -401,14 +401,14 @@ uint16_t BridgeServer::port() const {
 
 void BridgeServer::advertise(const std::vector<WsChannel>& channels) {
   if (channels.empty()) return;
-  std::vector<std::shared_ptr<Session>> sessions;
+  std::vector<std::shared_ptr<ClientConnection>> open_clients;
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
     for (const auto& c : channels) impl_->channels[c.id] = c;
-    for (const auto& [p, s] : impl_->sessions) sessions.push_back(s);
+    for (const auto& [p, s] : impl_->open_clients) open_clients.push_back(s);
   }
   const std::string text = advertiseJson(channels);
-  for (const auto& s : sessions) {
+  for (const auto& s : open_clients) {
     OutFrame f;
     f.text = true;
     f.head = text;
@@ -423,14 +423,14 @@ bool BridgeServer::wanted(uint32_t channel_id) const {
 
 void BridgeServer::publish(const std::vector<BridgeOutput>& outputs) {
   if (outputs.empty()) return;
-  std::vector<std::shared_ptr<Session>> sessions;
+  std::vector<std::shared_ptr<ClientConnection>> open_clients;
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
-    for (const auto& [p, s] : impl_->sessions) sessions.push_back(s);
+    for (const auto& [p, s] : impl_->open_clients) open_clients.push_back(s);
   }
   std::size_t dropped = 0;
   for (const auto& o : outputs) {
-    for (const auto& s : sessions) {
+    for (const auto& s : open_clients) {
       std::size_t d = 0;
       if (s->sendData(o.channel_id, o.timestamp_ns, o.payload, &d)) dropped += d;
     }
@@ -442,13 +442,13 @@ void BridgeServer::publish(const std::vector<BridgeOutput>& outputs) {
 }
 
 void BridgeServer::broadcastTime(uint64_t timestamp_ns) {
-  std::vector<std::shared_ptr<Session>> sessions;
+  std::vector<std::shared_ptr<ClientConnection>> open_clients;
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
-    for (const auto& [p, s] : impl_->sessions) sessions.push_back(s);
+    for (const auto& [p, s] : impl_->open_clients) open_clients.push_back(s);
   }
   std::size_t dropped = 0;
-  for (const auto& s : sessions) {
+  for (const auto& s : open_clients) {
     OutFrame f;
     f.head = timeMessage(timestamp_ns);
     std::size_t d = 0;
@@ -471,7 +471,7 @@ std::vector<uint32_t> BridgeServer::takeNewSubscriptions() {
 BridgeServer::Stats BridgeServer::stats() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   Stats s = impl_->stats;
-  s.clients = static_cast<int>(impl_->sessions.size());
+  s.clients = static_cast<int>(impl_->open_clients.size());
   return s;
 }
 
@@ -482,26 +482,26 @@ void BridgeServer::stop() {
     beast::error_code ec;
     impl->acceptor.close(ec);
   });
-  std::vector<std::shared_ptr<Session>> sessions;
+  std::vector<std::shared_ptr<ClientConnection>> open_clients;
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
-    for (const auto& [p, s] : impl_->sessions) sessions.push_back(s);
+    for (const auto& [p, s] : impl_->open_clients) open_clients.push_back(s);
   }
-  for (const auto& s : sessions) s->close();
-  sessions.clear();
+  for (const auto& s : open_clients) s->close();
+  open_clients.clear();
   // Give clients up to two seconds to answer the close, then stop regardless.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
   while (std::chrono::steady_clock::now() < deadline) {
     {
       std::lock_guard<std::mutex> lock(impl_->mutex);
-      if (impl_->sessions.empty()) break;
+      if (impl_->open_clients.empty()) break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   impl_->ioc.stop();
   impl_->thread.join();
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  impl_->sessions.clear();
+  impl_->open_clients.clear();
 }
 
 }  // namespace foxglove

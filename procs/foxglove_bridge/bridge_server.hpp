@@ -32,7 +32,7 @@ class BridgeServer {
 
   struct Stats {
     int clients = 0;            ///< connected now
-    uint64_t connections = 0;   ///< accepted WebSocket sessions since start
+    uint64_t connections = 0;   ///< accepted WebSocket connections since start
     uint64_t rejected = 0;      ///< connections refused (no subprotocol, too many clients, not WebSocket)
     uint64_t frames_sent = 0;
     uint64_t bytes_sent = 0;

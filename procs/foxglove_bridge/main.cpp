@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
   server->stop();
   const auto s = server->stats();
   ucon::runtime::logLine(kName, "info",
-                         "stopped: " + std::to_string(s.connections) + " client session(s), " +
+                         "stopped: " + std::to_string(s.connections) + " client connection(s), " +
                              std::to_string(s.frames_sent) + " frames sent, " + std::to_string(s.dropped) +
                              " dropped from full client queues, " + std::to_string(s.refused_requests) +
                              " requests refused (read-only)");

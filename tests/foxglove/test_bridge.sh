@@ -64,7 +64,7 @@ check "the ws-protocol client's checks hold" '[ $rc -eq 0 ]'
 "$UCON" stop --grace 5 >/dev/null 2>&1
 blog="$tmp/logs/foxglove.log"
 tail -n 5 "$blog" 2>/dev/null
-check "the bridge stopped cleanly on SIGINT" 'grep -q "stopped: .* client session" "$blog"'
+check "the bridge stopped cleanly on SIGINT" 'grep -q "stopped: .* client connection" "$blog"'
 check "the bridge logged no error" '! grep -q "\] error" "$blog"'
 check "the bridge was not killed or restarted" \
   '! grep -q "foxglove (pid .*) ignored SIGINT" "$tmp/logs/supervisor.log" 2>/dev/null && [ ! -f "$UCON_RUN_DIR/procs/foxglove.restarts" ]'

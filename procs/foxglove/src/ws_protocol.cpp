@@ -50,12 +50,13 @@ bool offersSubprotocol(const std::string& header_value) {
   return false;
 }
 
-std::string serverInfoJson(const std::string& name, const std::string& session_id) {
+std::string serverInfoJson(const std::string& name, const std::string& instance_id) {
   nlohmann::json j = {{"op", "serverInfo"},
                       {"name", name},
                       {"capabilities", {"time"}},
                       {"metadata", {{"read_only", "true"}}},
-                      {"sessionId", session_id}};
+                      // The protocol names the server instance's id "sessionId".
+                      {"sessionId", instance_id}};
   return j.dump();
 }
 

@@ -41,7 +41,7 @@ struct WsChannel {
 /// Status levels of the protocol.
 enum class StatusLevel : int { kInfo = 0, kWarning = 1, kError = 2 };
 
-std::string serverInfoJson(const std::string& name, const std::string& session_id);
+std::string serverInfoJson(const std::string& name, const std::string& instance_id);
 std::string advertiseJson(const std::vector<WsChannel>& channels);
 std::string statusJson(StatusLevel level, const std::string& message);
 
