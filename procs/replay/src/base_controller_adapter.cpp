@@ -12,16 +12,8 @@ namespace replay {
 
 std::unique_ptr<NodeAdapter> makeBaseControllerAdapter(const std::string& yaml, const std::string& source,
                                                        std::string* error) {
-  std::vector<ConfigError> errors;
-  auto p = loadParams<base_controller::BaseControllerParams>(yaml, source, &errors);
-  if (!p) {
-    if (error) *error = configErrorText(source, errors);
-    return nullptr;
-  }
-  if (const std::string bad = p->validate(); !bad.empty()) {
-    if (error) *error = source + ": " + bad;
-    return nullptr;
-  }
+  auto p = adapterParams<base_controller::BaseControllerParams, true>(yaml, source, error);
+  if (!p) return nullptr;
   return std::make_unique<BoundAdapter<base_controller::BoundBaseController>>(
       base_controller::binding(*p), std::make_unique<base_controller::BoundBaseController>(*p),
       [](const base_controller::BoundBaseController& n, const FeedCounts& c) {

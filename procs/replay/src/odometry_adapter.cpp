@@ -14,16 +14,8 @@ namespace replay {
 
 std::unique_ptr<NodeAdapter> makeOdometryAdapter(const std::string& yaml, const std::string& source,
                                                  std::string* error) {
-  std::vector<ConfigError> errors;
-  auto p = loadParams<odometry::OdometryParams>(yaml, source, &errors);
-  if (!p) {
-    if (error) *error = configErrorText(source, errors);
-    return nullptr;
-  }
-  if (const std::string bad = p->validate(); !bad.empty()) {
-    if (error) *error = source + ": " + bad;
-    return nullptr;
-  }
+  auto p = adapterParams<odometry::OdometryParams, true>(yaml, source, error);
+  if (!p) return nullptr;
   const std::string pose_channel = p->pose_channel;
   return std::make_unique<BoundAdapter<odometry::BoundOdometry>>(
       odometry::binding(*p), std::make_unique<odometry::BoundOdometry>(*p),

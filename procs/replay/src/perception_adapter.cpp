@@ -12,12 +12,8 @@ namespace replay {
 
 std::unique_ptr<NodeAdapter> makePerceptionAdapter(const std::string& yaml, const std::string& source,
                                                    std::string* error) {
-  std::vector<ConfigError> errors;
-  auto p = loadParams<perception::PerceptionParams>(yaml, source, &errors);
-  if (!p) {
-    if (error) *error = configErrorText(source, errors);
-    return nullptr;
-  }
+  auto p = adapterParams<perception::PerceptionParams, false>(yaml, source, error);
+  if (!p) return nullptr;
   // The mean frame time [us] over the replay, for the summary (measurement only).
   auto frame_ms_total = std::make_shared<double>(0.0);
   auto a = std::make_unique<BoundAdapter<perception::PerceptionNode>>(

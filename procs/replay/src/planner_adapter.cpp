@@ -14,12 +14,8 @@ namespace replay {
 
 std::unique_ptr<NodeAdapter> makePlannerAdapter(const std::string& yaml, const std::string& source,
                                                 std::string* error) {
-  std::vector<ConfigError> errors;
-  auto p = loadParams<planner::PlannerParams>(yaml, source, &errors);
-  if (!p) {
-    if (error) *error = configErrorText(source, errors);
-    return nullptr;
-  }
+  auto p = adapterParams<planner::PlannerParams, false>(yaml, source, error);
+  if (!p) return nullptr;
   p->optimizer.use_time_budget = false;  // determinism over timeliness (see above)
   auto a = std::make_unique<BoundAdapter<planner::BoundPlanner>>(
       planner::binding(), std::make_unique<planner::BoundPlanner>(*p),
