@@ -428,7 +428,7 @@ struct OneCycle {
   Fixture f{false};
   PlannerOutputs out;
   explicit OneCycle(const std::vector<tracked_object_t>& objs) {
-    f.params.escape_candidates = 0;
+    f.params.fallback.detours = 0;
     f.node = std::make_unique<PlannerNode>(f.params, f.report);
     f.node->map().addCylinder(50.0, 50.0, 0.3);
     f.node->notifyMapChanged();
@@ -491,7 +491,7 @@ TEST(PlannerNode, GivenNothingPassesTheCheckThenItEvadesWhereBrakingWouldBeHitAn
   // Braking is hit; the manoeuvre keeps a clearly larger gap to the movers as they are predicted
   // (after the first 0.1 s, over the evasion horizon), and clear of the map, within the limits.
   const int64_t from = kT0 + int64_t(f.params.latency_s * 1e6);
-  const double r = f.params.optimizer.robot_radius, h = f.params.evasion.horizon_s;
+  const double r = f.params.optimizer.robot_radius, h = f.params.fallback.horizon_s;
   const double g_stop = smallestGap(brake.f.node->currentTrajectory(), from, objs, kT0, 0.1, h, r);
   const double g_evade = smallestGap(f.node->currentTrajectory(), from, objs, kT0, 0.1, h, r);
   EXPECT_LT(g_stop, 0.0);
@@ -519,7 +519,7 @@ TEST(PlannerNode, GivenAnEvasiveManoeuvreUnderWayWhenStillNothingPassesThenItIsK
   };
   auto run = [&](double keep_margin) {
     Fixture f(false);
-    f.params.evasion.keep_margin = keep_margin;
+    f.params.fallback.keep_margin = keep_margin;
     f.node = std::make_unique<PlannerNode>(f.params, f.report);
     f.node->map().addCylinder(50.0, 50.0, 0.3);
     f.node->notifyMapChanged();

@@ -1,152 +1,139 @@
-// What the planner does when nothing toward the goal passed the trajectory check: short
-// optimised detours, and the choice between braking, the plan being followed, the least-bad
-// rejected plan and an evasive manoeuvre (evasion.hpp).
+// The planner's fallback policy (fallback_policy.hpp) applied to a cycle in which no plan toward
+// the goal passed the check: keep, evade or brake.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
-#include "ucon/planner/evasion.hpp"
+#include "ucon/planner/fallback_policy.hpp"
 #include "ucon/planner/planner_node.hpp"
 
 namespace ucon::planner {
 
 namespace {
+
+using Clock = std::chrono::steady_clock;  // compute-time measurement only, never decisions
 constexpr int64_t kUsPerS = 1000000;
+constexpr double kNone = -std::numeric_limits<double>::infinity();  // score of a candidate that does not exist
+
 }  // namespace
 
-PlannerNode::Evasion PlannerNode::evade(int64_t now) {
-  // Braking, the least-bad rejected plan and the fan of manoeuvres, by one score (evasion.hpp).
+PlannerOutputs PlannerNode::fallBack(Cycle& cycle, const StartState& start, const trajopt::PlanOutput& rejected) {
+  const std::string why =
+      std::string(trajopt::toString(rejected.status)) + (rejected.message.empty() ? "" : ": " + rejected.message);
+  // Keep: the plan being followed still passes the check.
+  if (previousStillSafe(cycle)) return keep(cycle, "rejected: " + why, "kept previous plan; new one rejected: " + why);
+  // Evade, checked: short detours away from the predicted obstacles, each put through the check.
+  trajectory::PiecewisePolynomial detour;
+  if (rejected.status != trajopt::PlanStatus::kInvalidInput && tryDetours(start, cycle, &detour)) {
+    report_.count("evasive_plans");
+    return follow(cycle, detour, "evasive detour: no checked plan toward the goal");
+  }
+  // Otherwise keep, evade or brake by the score.
+  const int64_t now = cycle.now;
   const int64_t t0 = now + int64_t(params_.latency_s * kUsPerS);
-  const trajopt::DistanceField2D* field = staticField();
-  const Eigen::Vector2d goal_xy(goal_->x, goal_->y);
-  const double r = params_.optimizer.robot_radius;
-  const EvasionParams& ep = params_.evasion;
-  Evasion out;
   trajectory::PiecewisePolynomial stop_pp;
   Eigen::Vector2d p, v;
-  if (!stopPolynomial(now, &stop_pp) || !expectedState(now, &p, &v)) return out;
-  const EvasionScore braking = scoreTrajectory(stop_pp, t0, goal_xy, field, obstacles_, r, ep);
-  EvasionScore least_bad;
-  least_bad.total = -std::numeric_limits<double>::infinity();
-  if (fallback_) least_bad = scoreTrajectory(fallback_->pp, t0, goal_xy, field, obstacles_, r, ep);
+  if (!stopPolynomial(now, &stop_pp) || !expectedState(now, &p, &v))
+    return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
+  const FallbackParams& fp = params_.fallback;
+  const FallbackScore braking = score(stop_pp, t0);
+  // The least-bad rejected plan of this cycle.
+  FallbackScore least_bad;
+  least_bad.total = kNone;
+  const trajectory::PiecewisePolynomial* least_bad_pp = nullptr;
+  for (const auto& pp : rejected_) {
+    const FallbackScore s = score(pp, t0);
+    if (s.total > least_bad.total) least_bad = s, least_bad_pp = &pp;
+  }
   // The trajectory being followed (it failed the check, as everything did): kept unless another
   // scores better by keep_margin, so that the manoeuvre of the last cycle is not swapped for a
   // near tie (a heading the other way within the noise of the prediction).
-  EvasionScore kept;
-  kept.total = -std::numeric_limits<double>::infinity();
-  if (current_.valid() && current_status_ == trajectory_t::STATUS_OK)
-    kept = scoreTrajectory(current_, t0, goal_xy, field, obstacles_, r, ep);
-  const Manoeuvre m = bestManoeuvre(t0, p, v, goal_xy, params_.optimizer.max_velocity,
-                                    params_.optimizer.max_acceleration, field, obstacles_, r, ep);
-  const double m_total = m.pp.valid() ? m.score.total : -std::numeric_limits<double>::infinity();
+  FallbackScore kept;
+  kept.total = kNone;
+  if (current_.valid() && current_status_ == trajectory_t::STATUS_OK) kept = score(current_, t0);
+  const Manoeuvre m = bestManoeuvre(t0, p, v, Eigen::Vector2d(goal_->x, goal_->y), params_.optimizer.max_velocity,
+                                    params_.optimizer.max_acceleration, staticField(), obstacles_,
+                                    params_.optimizer.robot_radius, fp);
+  const double m_total = m.pp.valid() ? m.score.total : kNone;
   char buf[200];
-  const double margin = ep.keep_margin;
-  if (kept.total > braking.total && kept.total + margin >= least_bad.total && kept.total + margin >= m_total) {
-    report_.count("evasion_kept");
-    std::snprintf(buf, sizeof(buf), "kept (evasion): gap %.2f m predicted, braking %.2f m", kept.min_gap,
-                  braking.min_gap);
-    out.kind = Evasion::kKeep;
-    out.message = buf;
-  } else if (m_total > braking.total && m_total > least_bad.total) {
-    report_.count("evasive_manoeuvres");
-    std::snprintf(buf, sizeof(buf), "evasive manoeuvre at (%.2f, %.2f) m/s: gap %.2f m predicted, braking %.2f m",
-                  m.velocity.x(), m.velocity.y(), m.score.min_gap, braking.min_gap);
-    out.kind = Evasion::kManoeuvre;
-    out.pp = m.pp;
-    out.message = buf;
-  } else if (least_bad.total > braking.total) {
-    report_.count("least_bad_plans");
-    std::snprintf(buf, sizeof(buf), "least bad: gap %.2f m predicted, braking %.2f m", least_bad.min_gap,
-                  braking.min_gap);
-    out.kind = Evasion::kLeastBad;
-    out.pp = fallback_->pp;
-    out.message = buf;
+  switch (chooseFallback(braking.total, kept.total, least_bad.total, m_total, fp.keep_margin)) {
+    case FallbackChoice::kKeep:
+      report_.count("evasion_kept");
+      std::snprintf(buf, sizeof(buf), "kept (evasion): gap %.2f m predicted, braking %.2f m", kept.min_gap,
+                    braking.min_gap);
+      return keep(cycle, buf, buf);
+    case FallbackChoice::kManoeuvre:
+      report_.count("evasive_manoeuvres");
+      std::snprintf(buf, sizeof(buf), "evasive manoeuvre at (%.2f, %.2f) m/s: gap %.2f m predicted, braking %.2f m",
+                    m.velocity.x(), m.velocity.y(), m.score.min_gap, braking.min_gap);
+      return follow(cycle, m.pp, buf);
+    case FallbackChoice::kLeastBad:
+      report_.count("least_bad_plans");
+      std::snprintf(buf, sizeof(buf), "least bad: gap %.2f m predicted, braking %.2f m", least_bad.min_gap,
+                    braking.min_gap);
+      return follow(cycle, *least_bad_pp, buf);
+    case FallbackChoice::kBrake:
+      break;
   }
-  return out;
+  return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
 }
 
-trajopt::PlanOutput PlannerNode::planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations) {
-  // Score 16 directions by the smallest predicted gap to any obstacle body along a straight
-  // run at cruise speed (constant-velocity prediction, 0.25 s steps over the run).
-  const double L = params_.escape_distance;
-  const double v = std::max(0.3, params_.front_end.guess_speed_ratio * params_.optimizer.max_velocity);
-  const double run_s = L / v;
-  struct Candidate {
-    double score;
-    int index;
-    Eigen::Vector2d target;
-  };
-  std::vector<Candidate> cands;
-  for (int k = 0; k < 16; ++k) {
-    const double a = k * (2.0 * M_PI / 16.0);
-    const Eigen::Vector2d dir(std::cos(a), std::sin(a));
-    const Eigen::Vector2d target = start.p + L * dir;
+FallbackScore PlannerNode::score(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const {
+  return scoreTrajectory(pp, from_utime, Eigen::Vector2d(goal_->x, goal_->y), staticField(), obstacles_,
+                         params_.optimizer.robot_radius, params_.fallback);
+}
+
+bool PlannerNode::tryDetours(const StartState& start, Cycle& cycle, trajectory::PiecewisePolynomial* detour) {
+  const FallbackParams& fp = params_.fallback;
+  if (fp.detours <= 0) return false;
+  const auto t0 = Clock::now();
+  const double L = fp.detour_length;
+  const double speed = std::max(0.3, params_.front_end.guess_speed_ratio * params_.optimizer.max_velocity);
+  const double amax = params_.front_end.guess_accel_ratio * params_.optimizer.max_acceleration;
+  // Headings by the score of a straight run along each at cruise speed; the optimiser's initial
+  // guess is that straight line, so it must keep hard_clearance from the map.
+  const std::vector<int> headings =
+      rankHeadings(start.utime, start.p, start.v, Eigen::Vector2d(goal_->x, goal_->y), speed,
+                   params_.optimizer.max_acceleration, staticField(), obstacles_, params_.optimizer.robot_radius, fp);
+  trajopt::PlanRequest req = requestFrom(start);
+  int tried = 0;
+  bool passed = false;
+  for (const int k : headings) {
+    if (tried >= fp.detours) break;
+    const Eigen::Vector2d target = start.p + L * heading(k, fp.directions);
     if (!segmentClear(map_, start.p, target, params_.front_end.hard_clearance)) continue;
-    double worst = std::numeric_limits<double>::infinity();
-    for (double t = 0.25; t <= run_s + 1e-9; t += 0.25) {
-      const Eigen::Vector2d p = start.p + dir * (v * t);
-      for (const auto& o : obstacles_) {
-        const double dt = t + double(start.utime - o.utime) * 1e-6;
-        const Eigen::Vector2d q(o.state(0) + o.state(3) * dt, o.state(1) + o.state(4) * dt);
-        worst = std::min(worst, (p - q).norm() - o.radius);
-      }
-    }
-    cands.push_back({worst, k, target});
-  }
-  std::sort(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) {
-    return x.score != y.score ? x.score > y.score : x.index < y.index;  // deterministic ties
-  });
-  trajopt::PlanOutput best;
-  best.status = trajopt::PlanStatus::kOptimiserFailed;
-  const int n = std::min<int>(params_.escape_candidates, int(cands.size()));
-  for (int i = 0; i < n; ++i) {
-    const std::vector<Eigen::Vector2d> path{start.p, cands[i].target};
-    const InitialGuess g = makeInitialGuess(path, L, start.v.norm(), v, params_.front_end.guess_accel_ratio *
-                                                                            params_.optimizer.max_acceleration,
-                                            params_.front_end);
+    ++tried;
+    const InitialGuess g = makeInitialGuess({start.p, target}, L, start.v.norm(), speed, amax, params_.front_end);
     req.goal.setZero();
     req.goal.col(0) = g.end;
     req.inner_waypoints = g.waypoints;
     req.durations = g.durations;
-    best = optimizer_.plan(req);
-    considerFallback(best);
-    *iterations += best.iterations;
+    const trajopt::PlanOutput po = optimizer_.plan(req);
+    cycle.info.iterations += po.iterations;
     report_.count("escape_attempts");
-    if (best.status == trajopt::PlanStatus::kOk) break;
+    if (po.status == trajopt::PlanStatus::kOk &&
+        trajectory::PiecewisePolynomial::fromMessage(po.trajectory, detour) == trajectory::TrajectoryStatus::kOk) {
+      passed = true;
+      break;
+    }
+    keepIfLeastBadCandidate(po);
   }
-  return best;
+  cycle.info.optimize_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  return passed;
 }
 
-void PlannerNode::considerFallback(const trajopt::PlanOutput& po) {
+void PlannerNode::keepIfLeastBadCandidate(const trajopt::PlanOutput& po) {
   if (po.status != trajopt::PlanStatus::kDynamicCollision) return;
   const auto& op = params_.optimizer;
   if (!(po.min_static_clearance >= op.robot_radius)) return;
   if (!(po.max_speed <= op.max_velocity * (1.0 + op.limit_tolerance)) ||
       !(po.max_acceleration <= op.max_acceleration * (1.0 + op.limit_tolerance)))
     return;
-  Fallback f;
-  if (trajectory::PiecewisePolynomial::fromMessage(po.trajectory, &f.pp) != trajectory::TrajectoryStatus::kOk) return;
-  f.contact_s = firstContact(f.pp, po.trajectory.start_utime);
-  f.gap = po.min_dynamic_clearance;
-  if (!fallback_ || f.contact_s > fallback_->contact_s ||
-      (f.contact_s == fallback_->contact_s && f.gap > fallback_->gap))
-    fallback_ = std::move(f);
-}
-
-double PlannerNode::firstContact(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const {
-  const auto& op = params_.optimizer;
-  const int steps = static_cast<int>(std::ceil(op.check_horizon / op.check_step));
-  for (int s = 0; s <= steps; ++s) {
-    const double ts = s * op.check_step;
-    const int64_t t = from_utime + static_cast<int64_t>(std::llround(ts * kUsPerS));
-    const Eigen::Vector2d p = pp.sample(t).position.head<2>();  // clamped: at rest after the end
-    for (const auto& o : obstacles_) {
-      if (!o.state.allFinite() || !std::isfinite(o.radius)) continue;
-      if (trajopt::predictedBodyGap(o, p, t) < op.robot_radius) return ts;
-    }
-  }
-  return std::numeric_limits<double>::infinity();
+  trajectory::PiecewisePolynomial pp;
+  if (trajectory::PiecewisePolynomial::fromMessage(po.trajectory, &pp) != trajectory::TrajectoryStatus::kOk) return;
+  rejected_.push_back(std::move(pp));
 }
 
 bool PlannerNode::expectedState(int64_t now, Eigen::Vector2d* p_out, Eigen::Vector2d* v_out) const {

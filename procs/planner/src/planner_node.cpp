@@ -271,13 +271,10 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     // Already at the nearest reachable point: hold here and keep the goal (the map may open).
     return stop(cycle, PlanResult::kStopNoFeasible, guide_note.empty() ? "no progress possible" : guide_note);
   }
-  std::string detour_note;
-  const trajopt::PlanOutput po = optimise(start, guide, cycle, &detour_note);
+  const trajopt::PlanOutput po = optimise(start, guide, cycle);
   trajectory::PiecewisePolynomial accepted;
-  if (!passedCheck(po, &accepted, &cycle.info)) {
-    return fallBack(cycle, std::string(trajopt::toString(po.status)) + (po.message.empty() ? "" : ": " + po.message));
-  }
-  return follow(cycle, accepted, detour_note.empty() ? guide_note : detour_note);
+  if (!passedCheck(po, &accepted, &cycle.info)) return fallBack(cycle, start, po);
+  return follow(cycle, accepted, guide_note);
 }
 
 std::optional<PlanResult> PlannerNode::missingInput() const {
@@ -353,10 +350,7 @@ InitialGuess PlannerNode::initialGuess(const GuidePath& guide, const StartState&
                           fe.guess_accel_ratio * params_.optimizer.max_acceleration, fe);
 }
 
-trajopt::PlanOutput PlannerNode::optimise(const StartState& start, const GuidePath& guide, Cycle& cycle,
-                                          std::string* note) {
-  PlanInfo* info = &cycle.info;
-  const auto t0 = Clock::now();
+trajopt::PlanRequest PlannerNode::requestFrom(const StartState& start) const {
   trajopt::PlanRequest req;
   req.start_utime = start.utime;
   req.start.col(0) = start.p;
@@ -365,8 +359,14 @@ trajopt::PlanOutput PlannerNode::optimise(const StartState& start, const GuidePa
   req.goal.setZero();
   req.field = field_.get();
   req.obstacles = obstacles_;
+  return req;
+}
+
+trajopt::PlanOutput PlannerNode::optimise(const StartState& start, const GuidePath& guide, Cycle& cycle) {
+  const auto t0 = Clock::now();
+  trajopt::PlanRequest req = requestFrom(start);
   trajopt::PlanOutput po;
-  fallback_.reset();
+  rejected_.clear();
   int attempts = 0;
   for (int attempt = 0; attempt < params_.max_attempts; ++attempt) {
     if (attempt > 0) report_.count("plan_retries");
@@ -375,24 +375,12 @@ trajopt::PlanOutput PlannerNode::optimise(const StartState& start, const GuidePa
     req.inner_waypoints = guess.waypoints;
     req.durations = guess.durations;
     po = optimizer_.plan(req);
-    considerFallback(po);
-    info->iterations += po.iterations;
+    keepIfLeastBadCandidate(po);
+    cycle.info.iterations += po.iterations;
     ++attempts;
     if (po.status == trajopt::PlanStatus::kOk || po.status == trajopt::PlanStatus::kInvalidInput) break;
   }
-  if (po.status != trajopt::PlanStatus::kOk && po.status != trajopt::PlanStatus::kInvalidInput &&
-      params_.escape_candidates > 0 && !previousStillSafe(cycle)) {
-    // Nothing toward the goal passed the check. Before braking (which leaves the robot in the
-    // way of whatever is coming), try short detours in the directions that stay farthest from
-    // the predicted obstacles; each still has to pass the same post-check.
-    const trajopt::PlanOutput escape = planEscape(start, req, &info->iterations);
-    if (escape.status == trajopt::PlanStatus::kOk) {
-      po = escape;
-      *note = "evasive detour: no checked plan toward the goal";
-      report_.count("evasive_plans");
-    }
-  }
-  info->optimize_ms = msSince(t0);
+  cycle.info.optimize_ms = msSince(t0);
   report_.set("attempts", attempts);
   return po;
 }
@@ -426,15 +414,6 @@ bool PlannerNode::passedCheck(const trajopt::PlanOutput& po, trajectory::Piecewi
     report_.count(std::string("rejected_") + trajopt::toString(po.status));
   }
   return ok;
-}
-
-PlannerOutputs PlannerNode::fallBack(Cycle& cycle, const std::string& why) {
-  const int64_t now = cycle.now;
-  if (previousStillSafe(cycle)) return keep(cycle, "rejected: " + why, "kept previous plan; new one rejected: " + why);
-  const Evasion e = evade(now);
-  if (e.kind == Evasion::kBrake) return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
-  if (e.kind == Evasion::kKeep) return keep(cycle, e.message, e.message);
-  return follow(cycle, e.pp, e.message);
 }
 
 PlannerOutputs PlannerNode::conclude(Cycle& cycle, trajectory_t trajectory) {

@@ -47,10 +47,8 @@ void PlannerParams::read(ConfigReader& r) {
   r.read("static_insert_period_s", static_insert_period_s, 0.0, 1.0);
   r.read("max_attempts", max_attempts, 1, 5);
   r.read("retry_speed_scale", retry_speed_scale, 0.1, 1.0);
-  r.read("escape_candidates", escape_candidates, 0, 16);
-  r.read("escape_distance", escape_distance, 0.5, 10.0);
-  auto ev = r.section("evasion");
-  evasion.read(ev);
+  auto fb = r.section("fallback");
+  fallback.read(fb);
   auto ws = r.section("workspace");
   workspace.read(ws);
   auto ob = r.section("objects");

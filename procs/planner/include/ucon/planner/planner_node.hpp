@@ -18,6 +18,7 @@
 #include "ucon/message_clock.hpp"
 #include "ucon/nav_goal_t.hpp"
 #include "ucon/planner/esdf_map.hpp"
+#include "ucon/planner/fallback_policy.hpp"
 #include "ucon/planner/guide_path.hpp"
 #include "ucon/planner/planner_params.hpp"
 #include "ucon/robot_pose_t.hpp"
@@ -143,10 +144,10 @@ class PlannerNode {
   /// Initial guess of optimiser run `attempt` along the guide: 0 nominal, then slower, then
   /// shorter as well.
   InitialGuess initialGuess(const GuidePath& guide, const StartState& start, int attempt) const;
-  /// The optimiser's runs toward the goal (max_attempts), then, when none passed and the plan
-  /// being followed is not still safe, short detours (escape_candidates); `note` says when the
-  /// result is a detour.
-  trajopt::PlanOutput optimise(const StartState& start, const GuidePath& guide, Cycle& cycle, std::string* note);
+  /// The optimiser's request from `start` (guess and goal left to fill).
+  trajopt::PlanRequest requestFrom(const StartState& start) const;
+  /// The optimiser's runs toward the goal (max_attempts), until one passes its check.
+  trajopt::PlanOutput optimise(const StartState& start, const GuidePath& guide, Cycle& cycle);
   /// The plan being followed still passes the check (and did not trigger this cycle).
   bool previousStillSafe(const Cycle& cycle) const;
   void reportOptimiserResult(const trajopt::PlanOutput& po, PlanInfo* info);
@@ -161,33 +162,25 @@ class PlannerNode {
   /// row must not look like a silent one.
   PlannerOutputs keep(Cycle& cycle, const std::string& info_message, const std::string& message);
   PlannerOutputs reachGoal(Cycle& cycle);
-  /// Nothing passed the check: keep the previous plan if still safe, else evade or brake.
-  PlannerOutputs fallBack(Cycle& cycle, const std::string& why);
+  /// Nothing toward the goal passed the check (`rejected`: the last run): the fallback policy
+  /// (fallback_policy.hpp) keeps the plan being followed, evades or brakes.
+  PlannerOutputs fallBack(Cycle& cycle, const StartState& start, const trajopt::PlanOutput& rejected);
   PlannerOutputs conclude(Cycle& cycle, trajectory_t trajectory);
 
-  // Fallbacks (planner_fallback.cpp).
-  /// Short detours away from the predicted obstacles when nothing toward the goal passed.
-  trajopt::PlanOutput planEscape(const StartState& start, trajopt::PlanRequest req, int* iterations);
-  /// Nothing passed the check: braking, the plan being followed, the least-bad rejected plan or
-  /// an evasive manoeuvre, whichever scores best (evasion.hpp).
-  struct Evasion {
-    enum Kind { kBrake, kKeep, kLeastBad, kManoeuvre } kind = kBrake;
-    trajectory::PiecewisePolynomial pp;  ///< to follow (kLeastBad, kManoeuvre)
-    std::string message;
-  };
-  Evasion evade(int64_t now);
+  // The fallback policy's parts (planner_fallback.cpp).
+  /// FallbackScore of the robot following `pp` from `from_utime` among the current obstacles.
+  FallbackScore score(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const;
+  /// Optimised detours toward the best-scoring headings (fallback.detours); true, with the
+  /// detour in `detour`, when one passes the check. Failed ones join the least-bad candidates.
+  bool tryDetours(const StartState& start, Cycle& cycle, trajectory::PiecewisePolynomial* detour);
+  /// Keeps `po` as a candidate for this cycle's least-bad plan if it failed only on predicted
+  /// obstacles (static clearance and limits fine).
+  void keepIfLeastBadCandidate(const trajopt::PlanOutput& po);
   /// Position and velocity the robot is expected to have at now + latency: the current plan's
   /// (the pose's if the robot is off it), else the pose's; false without a finite state.
   bool expectedState(int64_t now, Eigen::Vector2d* p, Eigen::Vector2d* v) const;
   /// The braking polynomial stopTrajectory() publishes; false without a state to stop from.
   bool stopPolynomial(int64_t now, trajectory::PiecewisePolynomial* pp) const;
-  /// Keeps `po` as this cycle's least-bad fallback if it failed only on predicted obstacles
-  /// (static clearance and limits fine) and reaches them later than any kept so far.
-  void considerFallback(const trajopt::PlanOutput& po);
-  /// Seconds from `from_utime` until the robot's body following `pp` (at rest after its end)
-  /// first comes within robot_radius of a predicted obstacle body, over the check horizon;
-  /// +inf if it does not.
-  double firstContact(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const;
 
   // Outputs (planner_outputs.cpp).
   trajectory_t stopTrajectory(int64_t now, int8_t status, const std::string& message);
@@ -205,12 +198,8 @@ class PlannerNode {
   MessageClock clock_;
   std::optional<robot_pose_t> pose_;
   std::vector<trajopt::PredictedObstacle> obstacles_;
-  struct Fallback {
-    trajectory::PiecewisePolynomial pp;
-    double contact_s = 0.0;  ///< firstContact() [s]
-    double gap = 0.0;        ///< smallest predicted gap to an obstacle body [m]
-  };
-  std::optional<Fallback> fallback_;  ///< this cycle's least-bad rejected plan
+  /// This cycle's rejected plans that failed only on predicted obstacles (least-bad candidates).
+  std::vector<trajectory::PiecewisePolynomial> rejected_;
   int64_t objects_utime_ = 0;
   bool objects_seen_ = false;
   std::optional<nav_goal_t> goal_;

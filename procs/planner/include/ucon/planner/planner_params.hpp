@@ -6,7 +6,7 @@
 
 #include "ucon/kalman/constant_velocity_kalman.hpp"
 #include "ucon/planner/esdf_map.hpp"
-#include "ucon/planner/evasion.hpp"
+#include "ucon/planner/fallback_policy.hpp"
 #include "ucon/planner/guide_path.hpp"
 #include "ucon/trajopt/sector_minco.hpp"
 
@@ -74,11 +74,8 @@ struct PlannerParams {
   double goal_default_tolerance = 0.3; ///< used when nav_goal_t.tolerance is not > 0 [m]
   int max_attempts = 3;               ///< optimiser runs per cycle before giving up (slower, then shorter guesses), 1..5
   double retry_speed_scale = 0.6;     ///< each retry's initial guess is this much slower, 0.1..1
-  int escape_candidates = 3;          ///< short detours tried before a stop (0 = brake at once), 0..16
-  double escape_distance = 2.5;       ///< length of a detour [m], 0.5..10
-  /// Nothing passed the check: braking, the plan being followed, the least-bad rejected plan or
-  /// a manoeuvre, by one score (YAML `evasion`).
-  EvasionParams evasion;
+  /// Nothing toward the goal passed the check: keep / evade / brake by one score (YAML `fallback`).
+  FallbackParams fallback;
   Workspace workspace;
   ObjectParams objects;
   PredictionParams prediction;        ///< prediction model of obstacle covariance

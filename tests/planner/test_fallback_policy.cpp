@@ -1,14 +1,15 @@
-// Evasive manoeuvres (procs/planner evasion.hpp): the manoeuvre polynomial keeps the limits and
-// ends at rest; the score is the smallest predicted gap to the movers' grown bodies after the
-// reaction time, with static clearance as a hard rule; the best manoeuvre steps aside from a
-// mover coming head-on, away from a wall.
+// The fallback policy's parts (procs/planner fallback_policy.hpp): the manoeuvre polynomial keeps
+// the limits and ends at rest; the score is the smallest predicted gap to the movers' grown
+// bodies after the reaction time, with static clearance as a hard rule; the best manoeuvre steps
+// aside from a mover coming head-on, away from a wall; detour headings are ranked by the same
+// score; the choice between keep, evade and brake.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "ucon/planner/evasion.hpp"
+#include "ucon/planner/fallback_policy.hpp"
 
 using namespace ucon;
 using namespace ucon::planner;
@@ -53,7 +54,7 @@ trajectory::PiecewisePolynomial rest(const Eigen::Vector2d& p) {
 
 }  // namespace
 
-TEST(Evasion, GivenAChangeOfVelocityThenTheManoeuvreReachesItAtTheLimitHoldsItAndBrakesToRest) {
+TEST(FallbackPolicy, GivenAChangeOfVelocityThenTheManoeuvreReachesItAtTheLimitHoldsItAndBrakesToRest) {
   const Eigen::Vector2d p0(1.0, -2.0), v0(1.0, 0.0), u(0.0, 1.5);
   const double amax = 2.0, run = 1.5;
   trajectory::PiecewisePolynomial pp;
@@ -82,7 +83,7 @@ TEST(Evasion, GivenAChangeOfVelocityThenTheManoeuvreReachesItAtTheLimitHoldsItAn
   EXPECT_LT((pp.sampleRelative(0.0).velocity.head<2>() - v0).norm(), 1e-12);
 }
 
-TEST(Evasion, GivenNonFiniteInputOrNoAccelerationThenNoManoeuvre) {
+TEST(FallbackPolicy, GivenNonFiniteInputOrNoAccelerationThenNoManoeuvre) {
   trajectory::PiecewisePolynomial pp;
   const Eigen::Vector2d z = Eigen::Vector2d::Zero();
   EXPECT_FALSE(manoeuvrePolynomial(kT0, Eigen::Vector2d(NAN, 0.0), z, z, 2.0, 1.0, &pp));
@@ -93,14 +94,14 @@ TEST(Evasion, GivenNonFiniteInputOrNoAccelerationThenNoManoeuvre) {
   EXPECT_FALSE(pp.valid());
 }
 
-TEST(Evasion, GivenAMoverComingTowardsAStillRobotThenTheScoreIsTheSmallestGapOfTheGrownBody) {
-  EvasionParams ep;
+TEST(FallbackPolicy, GivenAMoverComingTowardsAStillRobotThenTheScoreIsTheSmallestGapOfTheGrownBody) {
+  FallbackParams ep;
   ep.horizon_s = 1.5;  // reaction 0.1 s, cap 1 m, k = 1
   const Eigen::Vector2d goal(10.0, 0.0);
   const auto still = rest(Eigen::Vector2d::Zero());
   // Mover from (3, 0) at -1 m/s: at 1.5 s its centre is 1.5 m away: gap 1.5 - 0.3 - 0.3 = 0.9.
   const std::vector<trajopt::PredictedObstacle> plain{mover(3.0, 0.0, -1.0, 0.0)};
-  const EvasionScore s = scoreTrajectory(still, kT0, goal, nullptr, plain, 0.3, ep);
+  const FallbackScore s = scoreTrajectory(still, kT0, goal, nullptr, plain, 0.3, ep);
   ASSERT_TRUE(s.static_ok);
   EXPECT_NEAR(s.min_gap, 0.9, 1e-9);
   EXPECT_NEAR(s.progress, 0.0, 1e-12);
@@ -117,8 +118,8 @@ TEST(Evasion, GivenAMoverComingTowardsAStillRobotThenTheScoreIsTheSmallestGapOfT
   EXPECT_NEAR(scoreTrajectory(still, kT0, goal, nullptr, bad, 0.3, ep).min_gap, ep.gap_cap, 1e-12);
 }
 
-TEST(Evasion, GivenAMoverLeavingFastThenGapsBeforeTheReactionTimeAreNotScored) {
-  EvasionParams ep;
+TEST(FallbackPolicy, GivenAMoverLeavingFastThenGapsBeforeTheReactionTimeAreNotScored) {
+  FallbackParams ep;
   const auto still = rest(Eigen::Vector2d::Zero());
   // Overlapping now (gap 0.5 - 0.6 = -0.1), 1 m away 0.1 s later: gap 0.4, then beyond the cap.
   const std::vector<trajopt::PredictedObstacle> leaving{mover(0.5, 0.0, 5.0, 0.0)};
@@ -127,14 +128,14 @@ TEST(Evasion, GivenAMoverLeavingFastThenGapsBeforeTheReactionTimeAreNotScored) {
   EXPECT_NEAR(scoreTrajectory(still, kT0, Eigen::Vector2d(5, 0), nullptr, leaving, 0.3, ep).min_gap, -0.1, 1e-9);
 }
 
-TEST(Evasion, GivenAWallThenTrajectoriesCloserThanTheRadiusAreOutUnlessTheyStartedThereAndDoNotCloseIn) {
-  const EvasionParams ep;
+TEST(FallbackPolicy, GivenAWallThenTrajectoriesCloserThanTheRadiusAreOutUnlessTheyStartedThereAndDoNotCloseIn) {
+  const FallbackParams ep;
   const WallField wall(false, 1.0);  // obstacle x >= 1
   const Eigen::Vector2d goal(0.0, 10.0);
   trajectory::PiecewisePolynomial toward, away;
   ASSERT_TRUE(manoeuvrePolynomial(kT0, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d(1.5, 0.0),
                                   2.0, 1.5, &toward));
-  const EvasionScore hit = scoreTrajectory(toward, kT0, goal, &wall, {}, 0.3, ep);
+  const FallbackScore hit = scoreTrajectory(toward, kT0, goal, &wall, {}, 0.3, ep);
   EXPECT_FALSE(hit.static_ok);
   EXPECT_EQ(hit.total, -std::numeric_limits<double>::infinity());
   EXPECT_TRUE(scoreTrajectory(rest(Eigen::Vector2d::Zero()), kT0, goal, &wall, {}, 0.3, ep).static_ok);
@@ -151,19 +152,19 @@ TEST(Evasion, GivenAWallThenTrajectoriesCloserThanTheRadiusAreOutUnlessTheyStart
   trajectory::PiecewisePolynomial up;
   ASSERT_TRUE(manoeuvrePolynomial(kT0, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, 1.5),
                                   2.0, 1.5, &up));
-  const EvasionScore s = scoreTrajectory(up, kT0, goal, &wall, {}, 0.3, ep);
+  const FallbackScore s = scoreTrajectory(up, kT0, goal, &wall, {}, 0.3, ep);
   EXPECT_GT(s.progress, 1.5);
   EXPECT_GT(s.total, scoreTrajectory(rest(Eigen::Vector2d::Zero()), kT0, goal, &wall, {}, 0.3, ep).total);
 }
 
-TEST(Evasion, GivenAMoverHeadOnThenTheBestManoeuvreStepsAsideAwayFromTheWallAndBeatsBraking) {
-  const EvasionParams ep;
+TEST(FallbackPolicy, GivenAMoverHeadOnThenTheBestManoeuvreStepsAsideAwayFromTheWallAndBeatsBraking) {
+  const FallbackParams ep;
   const Eigen::Vector2d goal(10.0, 0.0), p0 = Eigen::Vector2d::Zero(), v0(0.5, 0.0);
   // A mover from 2.5 m ahead at 1.5 m/s straight at the robot: braking is hit.
   const std::vector<trajopt::PredictedObstacle> obs{mover(2.5, 0.0, -1.5, 0.0, 0.3, 0.0025, 0.01)};
   trajectory::PiecewisePolynomial brake;
   ASSERT_TRUE(manoeuvrePolynomial(kT0, p0, v0, Eigen::Vector2d::Zero(), 2.0, 0.0, &brake));
-  const EvasionScore braking = scoreTrajectory(brake, kT0, goal, nullptr, obs, 0.3, ep);
+  const FallbackScore braking = scoreTrajectory(brake, kT0, goal, nullptr, obs, 0.3, ep);
   ASSERT_LT(braking.min_gap, 0.0);
   const Manoeuvre m = bestManoeuvre(kT0, p0, v0, goal, 1.5, 2.0, nullptr, obs, 0.3, ep);
   ASSERT_TRUE(m.pp.valid());
@@ -182,4 +183,46 @@ TEST(Evasion, GivenAMoverHeadOnThenTheBestManoeuvreStepsAsideAwayFromTheWallAndB
   EXPECT_EQ(again.score.total, r.score.total);
   // Nothing finite to start from: no manoeuvre.
   EXPECT_FALSE(bestManoeuvre(kT0, Eigen::Vector2d(NAN, 0.0), v0, goal, 1.5, 2.0, nullptr, obs, 0.3, ep).pp.valid());
+}
+
+TEST(FallbackPolicy, GivenAMoverHeadOnThenDetourHeadingsAwayFromItRankFirstAndThoseIntoAWallAreLeftOut) {
+  const FallbackParams fp;
+  const Eigen::Vector2d goal(10.0, 0.0), p0 = Eigen::Vector2d::Zero(), v0(0.5, 0.0);
+  const std::vector<trajopt::PredictedObstacle> obs{mover(2.5, 0.0, -1.5, 0.0, 0.3, 0.0025, 0.01)};
+  const std::vector<int> open = rankHeadings(kT0, p0, v0, goal, 1.2, 2.0, nullptr, obs, 0.3, fp);
+  ASSERT_EQ(open.size(), std::size_t(fp.directions));  // no walls: every heading
+  // Straight at the mover (heading 0, +x) is the worst; the best ones run sideways or back.
+  EXPECT_EQ(open.back(), 0);
+  EXPECT_LT(heading(open.front(), fp.directions).x(), 0.5) << open.front();
+  // Ranked by the score of each heading's straight run, best first.
+  auto runScore = [&](int k, const trajopt::DistanceField2D* field) {
+    trajectory::PiecewisePolynomial run;
+    EXPECT_TRUE(manoeuvrePolynomial(kT0, p0, v0, 1.2 * heading(k, fp.directions), 2.0, fp.detour_length / 1.2, &run));
+    return scoreTrajectory(run, kT0, goal, field, obs, 0.3, fp).total;
+  };
+  for (std::size_t i = 1; i < open.size(); ++i) EXPECT_GE(runScore(open[i - 1], nullptr), runScore(open[i], nullptr));
+  // A wall 0.8 m to the left (y >= 0.8): headings whose run reaches it are left out.
+  const WallField wall(true, 0.8);
+  const std::vector<int> walled = rankHeadings(kT0, p0, v0, goal, 1.2, 2.0, &wall, obs, 0.3, fp);
+  EXPECT_LT(walled.size(), open.size());
+  for (int k : walled) EXPECT_LT(heading(k, fp.directions).y(), 0.5) << k;
+  EXPECT_EQ(walled, rankHeadings(kT0, p0, v0, goal, 1.2, 2.0, &wall, obs, 0.3, fp));  // deterministic
+  EXPECT_TRUE(rankHeadings(kT0, p0, v0, goal, 0.0, 2.0, nullptr, obs, 0.3, fp).empty());  // no speed: none
+}
+
+TEST(FallbackPolicy, GivenTheScoresThenItKeepsWithinTheMarginElseEvadesOrBrakesByTheBest) {
+  const double none = -std::numeric_limits<double>::infinity();
+  // Only braking exists.
+  EXPECT_EQ(chooseFallback(0.1, none, none, none, 0.0), FallbackChoice::kBrake);
+  // A manoeuvre or the least-bad plan must beat braking.
+  EXPECT_EQ(chooseFallback(0.3, none, 0.2, 0.25, 0.0), FallbackChoice::kBrake);
+  EXPECT_EQ(chooseFallback(0.1, none, 0.2, 0.3, 0.0), FallbackChoice::kManoeuvre);
+  EXPECT_EQ(chooseFallback(0.1, none, 0.3, 0.2, 0.0), FallbackChoice::kLeastBad);
+  EXPECT_EQ(chooseFallback(0.1, none, 0.3, 0.3, 0.0), FallbackChoice::kLeastBad);  // tie: the plan, not the manoeuvre
+  // The plan being followed: kept when it beats braking and comes within keep_margin of the best.
+  EXPECT_EQ(chooseFallback(0.1, 0.3, 0.3, 0.3, 0.0), FallbackChoice::kKeep);       // ties keep it
+  EXPECT_EQ(chooseFallback(0.1, 0.25, 0.2, 0.3, 0.0), FallbackChoice::kManoeuvre);
+  EXPECT_EQ(chooseFallback(0.1, 0.25, 0.2, 0.3, 0.1), FallbackChoice::kKeep);
+  EXPECT_EQ(chooseFallback(0.3, 0.25, none, none, 1.0), FallbackChoice::kBrake);   // never kept below braking
+  EXPECT_STREQ(toString(FallbackChoice::kLeastBad), "least_bad");
 }

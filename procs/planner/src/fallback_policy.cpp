@@ -1,4 +1,4 @@
-#include "ucon/planner/evasion.hpp"
+#include "ucon/planner/fallback_policy.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,9 @@ constexpr double kStaticSlack = 0.02;  // [m] a start inside the clearance may w
 constexpr double kHoldS = 0.5;         // [s] rest held at the end of a manoeuvre
 }  // namespace
 
-void EvasionParams::read(ConfigReader& r) {
+void FallbackParams::read(ConfigReader& r) {
+  r.read("detours", detours, 0, 16);
+  r.read("detour_length", detour_length, 0.5, 10.0);
   r.read("directions", directions, 4, 64);
   r.read("run_s", run_s, 0.0, 5.0);
   r.read("horizon_s", horizon_s, 0.2, 5.0);
@@ -28,11 +30,11 @@ void EvasionParams::read(ConfigReader& r) {
   if (reaction_s >= horizon_s) r.fail("reaction_s", "must be < horizon_s");
 }
 
-EvasionScore scoreTrajectory(const trajectory::PiecewisePolynomial& pp, int64_t from_utime,
+FallbackScore scoreTrajectory(const trajectory::PiecewisePolynomial& pp, int64_t from_utime,
                              const Eigen::Vector2d& goal, const trajopt::DistanceField2D* field,
                              const std::vector<trajopt::PredictedObstacle>& obstacles, double robot_radius,
-                             const EvasionParams& params) {
-  EvasionScore out;
+                             const FallbackParams& params) {
+  FallbackScore out;
   out.total = -std::numeric_limits<double>::infinity();
   if (!pp.valid() || !goal.allFinite()) return out;
   const int steps = static_cast<int>(std::floor(params.horizon_s / params.step_s + 1e-9));
@@ -105,20 +107,50 @@ bool manoeuvrePolynomial(int64_t t0, const Eigen::Vector2d& p0, const Eigen::Vec
   return trajectory::PiecewisePolynomial::create(t0, 2, 6, durations, coeffs, out) == trajectory::TrajectoryStatus::kOk;
 }
 
+Eigen::Vector2d heading(int k, int directions) {
+  const double a = k * (2.0 * M_PI / directions);
+  return Eigen::Vector2d(std::cos(a), std::sin(a));
+}
+
+std::vector<int> rankHeadings(int64_t t0, const Eigen::Vector2d& p0, const Eigen::Vector2d& v0,
+                              const Eigen::Vector2d& goal, double speed, double amax,
+                              const trajopt::DistanceField2D* field,
+                              const std::vector<trajopt::PredictedObstacle>& obstacles, double robot_radius,
+                              const FallbackParams& params) {
+  struct Ranked {
+    double total;
+    int k;
+  };
+  std::vector<Ranked> ranked;
+  if (!(speed > 0.0) || !std::isfinite(speed)) return {};
+  for (int k = 0; k < params.directions; ++k) {
+    trajectory::PiecewisePolynomial run;
+    if (!manoeuvrePolynomial(t0, p0, v0, speed * heading(k, params.directions), amax, params.detour_length / speed,
+                             &run))
+      return {};
+    const FallbackScore s = scoreTrajectory(run, t0, goal, field, obstacles, robot_radius, params);
+    if (s.static_ok) ranked.push_back({s.total, k});
+  }
+  std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) { return a.total > b.total; });
+  std::vector<int> out;
+  out.reserve(ranked.size());
+  for (const Ranked& r : ranked) out.push_back(r.k);
+  return out;
+}
+
 Manoeuvre bestManoeuvre(int64_t t0, const Eigen::Vector2d& p0, const Eigen::Vector2d& v0, const Eigen::Vector2d& goal,
                         double vmax, double amax, const trajopt::DistanceField2D* field,
                         const std::vector<trajopt::PredictedObstacle>& obstacles, double robot_radius,
-                        const EvasionParams& params) {
+                        const FallbackParams& params) {
   Manoeuvre best;
   best.score.total = -std::numeric_limits<double>::infinity();
   if (!(vmax > 0.0) || !std::isfinite(vmax)) return best;
   for (int k = 0; k < params.directions; ++k) {
-    const double a = k * (2.0 * M_PI / params.directions);
-    const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+    const Eigen::Vector2d dir = heading(k, params.directions);
     for (const double speed : {vmax, 0.5 * vmax}) {
       trajectory::PiecewisePolynomial pp;
       if (!manoeuvrePolynomial(t0, p0, v0, speed * dir, amax, params.run_s, &pp)) return Manoeuvre{};
-      const EvasionScore s = scoreTrajectory(pp, t0, goal, field, obstacles, robot_radius, params);
+      const FallbackScore s = scoreTrajectory(pp, t0, goal, field, obstacles, robot_radius, params);
       if (s.static_ok && s.total > best.score.total) {
         best.pp = std::move(pp);
         best.score = s;
@@ -127,6 +159,23 @@ Manoeuvre bestManoeuvre(int64_t t0, const Eigen::Vector2d& p0, const Eigen::Vect
     }
   }
   return best;
+}
+
+const char* toString(FallbackChoice c) {
+  switch (c) {
+    case FallbackChoice::kBrake: return "brake";
+    case FallbackChoice::kKeep: return "keep";
+    case FallbackChoice::kLeastBad: return "least_bad";
+    case FallbackChoice::kManoeuvre: return "manoeuvre";
+  }
+  return "unknown";
+}
+
+FallbackChoice chooseFallback(double braking, double kept, double least_bad, double manoeuvre, double keep_margin) {
+  if (kept > braking && kept + keep_margin >= least_bad && kept + keep_margin >= manoeuvre) return FallbackChoice::kKeep;
+  if (manoeuvre > braking && manoeuvre > least_bad) return FallbackChoice::kManoeuvre;
+  if (least_bad > braking) return FallbackChoice::kLeastBad;
+  return FallbackChoice::kBrake;
 }
 
 }  // namespace ucon::planner
