@@ -3,7 +3,10 @@
 // finite differences, and closed-form checks of the motion model.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
+#include <random>
 
 #include "ucon/lio/lio_odometry.hpp"
 #include "ucon/lio/nav_state.hpp"
@@ -189,4 +192,50 @@ TEST(PlaneFit, GivenPointsOnAPlaneThenItIsFoundAndScatterIsRejected) {
   EXPECT_FALSE(fitPlane(nb, 5, 0.05));
   nb.count = 2;
   EXPECT_FALSE(fitPlane(nb, 3, 0.05));
+}
+
+// The plane fit's eigen-solver (Newton on the characteristic polynomial, kernel by cross
+// products) against Eigen's: scatters of planar patches with noise, of lines, of isotropic
+// blobs, at map scales (mm to m).
+TEST(PlaneFit, GivenScattersOfEveryShapeThenTheSmallestEigenpairMatchesEigensSolver) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double scale = std::pow(10.0, -3.0 + 3.0 * (trial % 4) / 3.0);
+    const Eigen::Vector3d spread(scale, scale * (trial % 3 == 0 ? 1.0 : 0.5 + 0.5 * std::fabs(u(rng))),
+                                 scale * (trial % 5 == 0 ? 0.8 : 1e-3 * std::fabs(u(rng))));
+    const Eigen::Matrix3d Q = Eigen::Quaterniond(g(rng), g(rng), g(rng), g(rng)).normalized().toRotationMatrix();
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    for (int i = 0; i < 5; ++i) {
+      const Eigen::Vector3d d = Q * spread.cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      S += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> ref(S);
+    const SymmetricEigen3 es = smallestEigen(S);
+    ASSERT_TRUE(es.ok) << trial;
+    const double tr = S.trace();
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(es.values(k), ref.eigenvalues()(k), 1e-9 * tr) << trial << " " << k;
+    const double gap = (ref.eigenvalues()(1) - ref.eigenvalues()(0)) / tr;
+    if (gap > 1e-4) {
+      EXPECT_NEAR(std::fabs(es.vector.dot(ref.eigenvectors().col(0))), 1.0, 1e-9 / (gap * gap)) << trial;
+      EXPECT_NEAR(es.vector.norm(), 1.0, 1e-12);
+    }
+  }
+  EXPECT_FALSE(smallestEigen(Eigen::Matrix3d::Zero()).ok);
+  EXPECT_FALSE(smallestEigen(Eigen::Matrix3d::Constant(std::nan(""))).ok);
+}
+
+// Exp(w) p applied directly equals the matrix exponential applied, in the series range and
+// beyond it.
+TEST(So3, GivenRotationVectorsThenExpApplyEqualsTheMatrixExponential) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    const double scale = i % 2 == 0 ? 0.01 : 1.0;
+    const Eigen::Vector3d w = scale * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    const Eigen::Vector3d p = 20.0 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    EXPECT_NEAR((expSO3Apply(w, p) - expSO3(w) * p).norm(), 0.0, 1e-12 * p.norm()) << i;
+    EXPECT_NEAR((expSO3Apply(w, p) - Eigen::AngleAxisd(w.norm(), w.normalized()) * p).norm(), 0.0, 1e-9 * p.norm()) << i;
+  }
 }

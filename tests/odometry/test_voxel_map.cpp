@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
+#include <set>
+#include <tuple>
 
 #include "ucon/lio/registration.hpp"
 #include "ucon/lio/so3.hpp"
@@ -136,6 +139,32 @@ TEST(VoxelDownsample, GivenACloudThenOnePointPerCellInInputOrder) {
   const auto idx = voxelDownsampleIndices(pts, 0.5);
   EXPECT_EQ(idx, (std::vector<int>{0, 2, 4}));
   EXPECT_EQ(voxelDownsample(pts, 0.0).size(), pts.size());
+}
+
+// Against a plain reference (std::floor, std::set) on a cloud with negative coordinates, points
+// exactly on cell faces, duplicates and non-finite points: the same points, in input order.
+TEST(VoxelDownsample, GivenALargeCloudThenTheSameIndicesAsAPlainReference) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-30.0f, 30.0f);
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 20000; ++i) pts.emplace_back(u(rng), u(rng), 0.1f * u(rng));
+  for (int i = -8; i <= 8; ++i) pts.emplace_back(0.3f * static_cast<float>(i), -0.3f * static_cast<float>(i), -0.6f);
+  pts.emplace_back(std::nanf(""), 0.0f, 0.0f);
+  pts.push_back(pts[5]);
+  for (const double voxel : {0.3, 0.5, 1.0}) {
+    std::set<std::tuple<int64_t, int64_t, int64_t>> seen;
+    std::vector<int> ref;
+    const float inv = static_cast<float>(1.0 / voxel);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3f& p = pts[i];
+      if (!p.allFinite()) continue;
+      const auto key = std::make_tuple(static_cast<int64_t>(std::floor(p.x() * inv)),
+                                       static_cast<int64_t>(std::floor(p.y() * inv)),
+                                       static_cast<int64_t>(std::floor(p.z() * inv)));
+      if (seen.insert(key).second) ref.push_back(static_cast<int>(i));
+    }
+    EXPECT_EQ(voxelDownsampleIndices(pts, voxel), ref) << voxel;
+  }
 }
 
 TEST(Registration, GivenARoomScanOffsetBy30cmAnd5DegThenItIsAlignedToTheMillimetre) {

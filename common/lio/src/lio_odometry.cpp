@@ -382,18 +382,33 @@ void LioOdometry::processFrame(const PointFrame& f, FrameReport* rep) {
   undistorted_.reserve(f.points.size());
   const Eigen::Matrix3d RendT = x.R.transpose();
   const double rmin2 = p_.min_range * p_.min_range, rmax2 = p_.max_range * p_.max_range;
+  // Per piece, once: its pose seen from the frame end (M = R_end^T R_k, c, v, a in that frame);
+  // per point only the small rotation Exp(w tau) p (expSO3Apply) and a sum.
   std::size_t k = 0;
+  bool piece_ready = false;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d c = Eigen::Vector3d::Zero(), v = c, a_half = c, w = c;
   for (std::size_t i = 0; i < f.points.size(); ++i) {
     const Eigen::Vector3d pI = f.points[i].cast<double>() - p_.imu_position;
     const double r2 = pI.squaredNorm();
     if (!(r2 >= rmin2 && r2 <= rmax2)) continue;
     const int64_t tp = f.t0_ns + (i < f.dt_ns.size() ? f.dt_ns[i] : 0);
-    while (k + 1 < segments_.size() && segments_[k + 1].t_ns <= tp) ++k;
+    while (k + 1 < segments_.size() && segments_[k + 1].t_ns <= tp) {
+      ++k;
+      piece_ready = false;
+    }
     const Segment& sg = segments_[k];
+    if (!piece_ready) {
+      M = RendT * sg.x.R;
+      c = RendT * (sg.x.p - x.p);
+      v = RendT * sg.x.v;
+      a_half = 0.5 * (RendT * sg.a_world);
+      w = sg.w;
+      piece_ready = true;
+    }
     const double tau = sec(tp - sg.t_ns);
-    const Eigen::Matrix3d Rt = sg.x.R * expSO3(sg.w * tau);
-    const Eigen::Vector3d pt = sg.x.p + sg.x.v * tau + 0.5 * tau * tau * sg.a_world;
-    undistorted_.push_back((RendT * (Rt * pI + pt - x.p)).cast<float>());
+    const Eigen::Vector3d rp = expSO3Apply(w * tau, pI);
+    undistorted_.push_back((M * rp + c + v * tau + a_half * (tau * tau)).cast<float>());
   }
   rep->points_in_range = static_cast<int>(undistorted_.size());
   const std::vector<int> keep = voxelDownsampleIndices(undistorted_, p_.downsample_voxel);

@@ -1,7 +1,5 @@
 #include "ucon/lio/registration.hpp"
 
-#include <tsl/robin_set.h>
-
 #include <cmath>
 
 #include "ucon/lio/plane.hpp"
@@ -11,14 +9,23 @@ namespace ucon {
 namespace lio {
 
 namespace {
-struct CellHash {
-  std::size_t operator()(uint64_t k) const {
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    return static_cast<std::size_t>(k);
-  }
-};
+
+// splitmix64's finaliser (neighbouring cells land in unrelated slots).
+uint64_t mixCell(uint64_t k) {
+  k ^= k >> 30;
+  k *= 0xbf58476d1ce4e5b9ULL;
+  k ^= k >> 27;
+  k *= 0x94d049bb133111ebULL;
+  k ^= k >> 31;
+  return k;
+}
+
+// floor() for finite coordinates well inside the int range, without the library call.
+int64_t floorToInt(float x) {
+  const int64_t i = static_cast<int64_t>(x);
+  return static_cast<float>(i) > x ? i - 1 : i;
+}
+
 }  // namespace
 
 std::vector<int> voxelDownsampleIndices(const std::vector<Eigen::Vector3f>& points, double voxel) {
@@ -29,15 +36,26 @@ std::vector<int> voxelDownsampleIndices(const std::vector<Eigen::Vector3f>& poin
     return out;
   }
   const float inv = static_cast<float>(1.0 / voxel);
-  tsl::robin_set<uint64_t, CellHash> seen;
-  seen.reserve(points.size());
+  // The cells seen so far: an open-addressing set (linear probing) of at most half load, made
+  // once per call; cell keys are 63-bit, so ~0 marks an empty slot.
+  constexpr uint64_t kEmpty = ~uint64_t{0};
+  std::size_t size = 16;
+  while (size < 2 * points.size()) size *= 2;
+  const std::size_t mask = size - 1;
+  std::vector<uint64_t> table(size, kEmpty);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
     if (!p.allFinite()) continue;
-    const uint64_t kx = static_cast<uint64_t>(static_cast<int64_t>(std::floor(p.x() * inv)) & 0x1FFFFF);
-    const uint64_t ky = static_cast<uint64_t>(static_cast<int64_t>(std::floor(p.y() * inv)) & 0x1FFFFF);
-    const uint64_t kz = static_cast<uint64_t>(static_cast<int64_t>(std::floor(p.z() * inv)) & 0x1FFFFF);
-    if (seen.insert((kx << 42) | (ky << 21) | kz).second) out.push_back(static_cast<int>(i));
+    const uint64_t kx = static_cast<uint64_t>(floorToInt(p.x() * inv) & 0x1FFFFF);
+    const uint64_t ky = static_cast<uint64_t>(floorToInt(p.y() * inv) & 0x1FFFFF);
+    const uint64_t kz = static_cast<uint64_t>(floorToInt(p.z() * inv) & 0x1FFFFF);
+    const uint64_t key = (kx << 42) | (ky << 21) | kz;
+    std::size_t h = static_cast<std::size_t>(mixCell(key)) & mask;
+    while (table[h] != kEmpty && table[h] != key) h = (h + 1) & mask;
+    if (table[h] == kEmpty) {
+      table[h] = key;
+      out.push_back(static_cast<int>(i));
+    }
   }
   return out;
 }

@@ -37,6 +37,13 @@ struct KeyHash {
   }
 };
 
+// floor() for the finite values of a map (|x| far below 2^31): a truncation and a correction,
+// without the library call that baseline x86-64 makes for std::floor.
+int32_t floorToInt(float x) {
+  const int32_t i = static_cast<int32_t>(x);
+  return static_cast<float>(i) > x ? i - 1 : i;
+}
+
 }  // namespace
 
 struct VoxelMap::Impl {
@@ -48,7 +55,9 @@ struct VoxelMap::Impl {
 
   tsl::robin_map<uint64_t, int32_t, KeyHash> index;
   std::vector<Slot> slots;
-  std::vector<Eigen::Vector3f> pts;  // slot s holds pts[s * cap, s * cap + count)
+  // Points stored per coordinate (structure of arrays), so that the distances to a voxel's
+  // points are computed several at a time: slot s holds [s * cap, s * cap + count) of each.
+  std::vector<float> px, py, pz;
   std::vector<int32_t> free_slots;
   int32_t head = -1, tail = -1;
   std::size_t num_points = 0;
@@ -88,7 +97,9 @@ struct VoxelMap::Impl {
     } else {
       s = static_cast<int32_t>(slots.size());
       slots.emplace_back();
-      pts.resize(pts.size() + static_cast<std::size_t>(cap));
+      px.resize(px.size() + static_cast<std::size_t>(cap));
+      py.resize(py.size() + static_cast<std::size_t>(cap));
+      pz.resize(pz.size() + static_cast<std::size_t>(cap));
     }
     slots[static_cast<std::size_t>(s)].key = key;
     slots[static_cast<std::size_t>(s)].count = 0;
@@ -97,9 +108,8 @@ struct VoxelMap::Impl {
     return s;
   }
   uint64_t keyOf(const Eigen::Vector3f& p, Eigen::Vector3i* cell) const {
-    const Eigen::Vector3i c(static_cast<int32_t>(std::floor(p.x() * inv_voxel)),
-                            static_cast<int32_t>(std::floor(p.y() * inv_voxel)),
-                            static_cast<int32_t>(std::floor(p.z() * inv_voxel)));
+    const Eigen::Vector3i c(floorToInt(p.x() * inv_voxel), floorToInt(p.y() * inv_voxel),
+                            floorToInt(p.z() * inv_voxel));
     if (cell) *cell = c;
     return packKey(c.x(), c.y(), c.z());
   }
@@ -150,10 +160,18 @@ bool VoxelMap::insert(const Eigen::Vector3f& p) {
   }
   Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
   if (sl.count >= m.cap) return false;
-  Eigen::Vector3f* base = &m.pts[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap)];
-  for (int i = 0; i < sl.count; ++i)
-    if ((base[i] - p).squaredNorm() < m.spacing2) return false;
-  base[sl.count++] = p;
+  const std::size_t b = static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap);
+  float* xs = &m.px[b];
+  float* ys = &m.py[b];
+  float* zs = &m.pz[b];
+  for (int i = 0; i < sl.count; ++i) {
+    const float dx = xs[i] - p.x(), dy = ys[i] - p.y(), dz = zs[i] - p.z();
+    if (dx * dx + dy * dy + dz * dz < m.spacing2) return false;
+  }
+  xs[sl.count] = p.x();
+  ys[sl.count] = p.y();
+  zs[sl.count] = p.z();
+  ++sl.count;
   ++m.num_points;
   return true;
 }
@@ -190,10 +208,27 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
     if (it == m.index.end()) continue;
     const int32_t s = it->second;
     const int count = m.slots[static_cast<std::size_t>(s)].count;
-    const Eigen::Vector3f* base = &m.pts[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap)];
+    const std::size_t b = static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap);
+    const float* xs = &m.px[b];
+    const float* ys = &m.py[b];
+    const float* zs = &m.pz[b];
+    // All distances first, counting those that could enter (below max_distance and, once k
+    // are held, below the k-th): a loop the compiler vectorises. The sorted insertion runs
+    // only over a voxel that has such a point.
+    const float limit0 = n == k ? out->dist2[k - 1] : max2;
+    float d2s[64];
+    int below = 0;
     for (int i = 0; i < count; ++i) {
-      const float d2 = (base[i] - q).squaredNorm();
-      if (d2 >= max2 || (n == k && d2 >= out->dist2[k - 1])) continue;
+      const float dx = xs[i] - q.x(), dy = ys[i] - q.y(), dz = zs[i] - q.z();
+      const float d2 = dx * dx + dy * dy + dz * dz;
+      d2s[i] = d2;
+      below += d2 < limit0 ? 1 : 0;
+    }
+    if (below == 0) continue;
+    float limit = limit0;
+    for (int i = 0; i < count; ++i) {
+      const float d2 = d2s[i];
+      if (!(d2 < limit)) continue;
       // Insertion into the sorted list (strict '<': an equal distance keeps the earlier point).
       int j = n < k ? n++ : k - 1;
       while (j > 0 && out->dist2[j - 1] > d2) {
@@ -202,7 +237,8 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
         --j;
       }
       out->dist2[j] = d2;
-      out->points[j] = base[i];
+      out->points[j] = Eigen::Vector3f(xs[i], ys[i], zs[i]);
+      if (n == k) limit = out->dist2[k - 1];
     }
   }
   out->count = n;
@@ -241,8 +277,8 @@ std::vector<Eigen::Vector3f> VoxelMap::points() const {
   out.reserve(m.num_points);
   for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
     const auto& sl = m.slots[static_cast<std::size_t>(s)];
-    const Eigen::Vector3f* base = &m.pts[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap)];
-    out.insert(out.end(), base, base + sl.count);
+    const std::size_t b = static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap);
+    for (int i = 0; i < sl.count; ++i) out.emplace_back(m.px[b + i], m.py[b + i], m.pz[b + i]);
   }
   return out;
 }

@@ -20,6 +20,17 @@ struct Plane {
   double distance(const Eigen::Vector3d& x) const { return normal.dot(x) + d; }
 };
 
+/// Eigenvalues (ascending) of a symmetric positive semi-definite 3x3 matrix and the unit
+/// eigenvector of the smallest; ok = false for a zero or non-finite matrix. Without the
+/// trigonometry of the closed form (Newton on the characteristic polynomial from 0, then the
+/// kernel by cross products): a plane fit per scan point and iteration calls it.
+struct SymmetricEigen3 {
+  Eigen::Vector3d values = Eigen::Vector3d::Zero();
+  Eigen::Vector3d vector = Eigen::Vector3d::UnitZ();
+  bool ok = false;
+};
+SymmetricEigen3 smallestEigen(const Eigen::Matrix3d& S);
+
 /// Least-squares plane of `neighbours` (at least `min_points`, >= 3): the centroid and the
 /// eigenvector of the smallest eigenvalue of their scatter. Rejected (nullopt) when any
 /// point lies farther than `max_point_distance` [m] from it, or the points are nearly
