@@ -262,8 +262,7 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
   const StartState start = startState(now);
   updateMap(start.p, &cycle.info);
   const GuidePath guide = searchGuidePath(start.p, &cycle.info);
-  if (guide.status == GuideStatus::kNoMap || guide.status == GuideStatus::kStartOutsideMap ||
-      guide.status == GuideStatus::kBadInput) {
+  if (guideUnusable(guide)) {
     return stop(cycle, PlanResult::kStopNoFeasible, std::string("front end: ") + toString(guide.status));
   }
   const std::string guide_note = noteOnGuide(guide);
@@ -278,6 +277,41 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
     return fallBack(cycle, std::string(trajopt::toString(po.status)) + (po.message.empty() ? "" : ": " + po.message));
   }
   return follow(cycle, accepted, detour_note.empty() ? guide_note : detour_note);
+}
+
+std::optional<trajopt::PlanRequest> PlannerNode::problem(int64_t utime) {
+  clock_.observe(utime);
+  const int64_t now = clock_.now();
+  if (now <= 0 || !goal_ || missingInput() || goalReached()) return std::nullopt;
+  PlanInfo info;  // timings of this look-ahead are not reported
+  const StartState start = startState(now);
+  updateMap(start.p, &info);
+  const GuidePath guide = searchGuidePath(start.p, &info);
+  if (guideUnusable(guide)) return std::nullopt;
+  const InitialGuess guess = initialGuess(guide, start, 0);
+  if (guess.length < 0.05 && start.v.norm() < 0.05) return std::nullopt;
+  trajopt::PlanRequest req = baseRequest(start);
+  req.goal.col(0) = guess.end;
+  req.inner_waypoints = guess.waypoints;
+  req.durations = guess.durations;
+  return req;
+}
+
+bool PlannerNode::guideUnusable(const GuidePath& guide) {
+  return guide.status == GuideStatus::kNoMap || guide.status == GuideStatus::kStartOutsideMap ||
+         guide.status == GuideStatus::kBadInput;
+}
+
+trajopt::PlanRequest PlannerNode::baseRequest(const StartState& start) const {
+  trajopt::PlanRequest req;
+  req.start_utime = start.utime;
+  req.start.col(0) = start.p;
+  req.start.col(1) = start.v;
+  req.start.col(2) = start.a;
+  req.goal.setZero();
+  req.field = field_.get();
+  req.obstacles = obstacles_;
+  return req;
 }
 
 std::optional<PlanResult> PlannerNode::missingInput() const {
@@ -357,14 +391,7 @@ trajopt::PlanOutput PlannerNode::optimise(const StartState& start, const GuidePa
                                           std::string* note) {
   PlanInfo* info = &cycle.info;
   const auto t0 = Clock::now();
-  trajopt::PlanRequest req;
-  req.start_utime = start.utime;
-  req.start.col(0) = start.p;
-  req.start.col(1) = start.v;
-  req.start.col(2) = start.a;
-  req.goal.setZero();
-  req.field = field_.get();
-  req.obstacles = obstacles_;
+  trajopt::PlanRequest req = baseRequest(start);
   trajopt::PlanOutput po;
   fallback_.reset();
   int attempts = 0;
