@@ -38,6 +38,9 @@ struct Cell {
   std::vector<double> plan_ms, plan_cpu_ms, iterations;
 };
 
+/// Neither a contact with a mover nor a missing plan (static contacts set aside).
+bool mover_free(const PlanOutcome& o) { return o.has_plan && !o.play.mover_contact; }
+
 struct Count {
   int64_t probes = 0, free = 0;
 };
@@ -78,6 +81,8 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
       std::map<std::string, std::vector<Count>> age, motion;
       // Paired outcomes of method 0 (the sector) against every other.
       std::vector<int64_t> b(nm, 0), c(nm, 0), both_free(nm, 0), both_contact(nm, 0);
+      // The same on mover contacts alone (static contacts set aside).
+      std::vector<int64_t> mb(nm, 0), mc(nm, 0);
       for (std::size_t ri = 0; ri < runs.size(); ++ri) {
         if (keys[ri].n_dynamic != d) continue;
         for (const auto& p : runs[ri].probes) {
@@ -115,6 +120,9 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
             if (m > 0) {
               const bool s = p.outcomes[h * nm].contactFree(), x = o.contactFree();
               both_free[m] += s && x;
+              const bool sm = mover_free(p.outcomes[h * nm]), xm = mover_free(o);
+              mb[m] += sm && !xm;
+              mc[m] += !sm && xm;
               both_contact[m] += !s && !x;
               b[m] += s && !x;
               c[m] += !s && x;
@@ -140,6 +148,7 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
                 << ", \"ci95_hi\": " << num(ci.hi) << ", \"mover_contacts\": " << cl.mover_contacts
                 << ", \"static_contacts\": " << cl.static_contacts << ", \"no_plan\": " << cl.no_plan
                 << ", \"avoidable_probes\": " << cl.avoidable << ", \"contact_free_avoidable_rate\": " << num(avoid_rate)
+                << ", \"mover_contact_free_rate\": " << num(cl.probes ? 1.0 - double(cl.mover_contacts + cl.no_plan) / double(cl.probes) : NAN)
                 << ", \"passed_check\": " << cl.passed << ", \"passed_check_contact_free_rate\": " << num(passed_rate)
                 << ", \"energy_jerk_mean\": " << num(energy)
                 << ", \"plan_ms_median\": " << num(percentile(cl.plan_ms, 0.5))
@@ -153,6 +162,9 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
         const int64_t n = cells[m].probes;
         const PairedDifference pd = pairedDifference(b[m], c[m], n);
         const char* verdict = t.exact_p < 0.05 ? (b[m] > c[m] ? "better" : "worse") : "no significant difference";
+        const McNemar tm = mcnemar(mb[m], mc[m]);
+        const PairedDifference pm = pairedDifference(mb[m], mc[m], n);
+        const char* mverdict = tm.exact_p < 0.05 ? (mb[m] > mc[m] ? "better" : "worse") : "no significant difference";
         paired << (first_pair ? "" : ",\n") << "    {\"horizon_s\": " << num(horizons[h]) << ", \"n_dynamic\": " << d
                << ", \"method\": \"" << methods[0] << "\", \"baseline\": \"" << methods[m] << "\", \"pairs\": " << n
                << ", \"both_free\": " << both_free[m] << ", \"only_" << methods[0] << "_free\": " << b[m]
@@ -160,13 +172,21 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
                << ", \"rate_difference\": " << num(pd.diff) << ", \"difference_ci95_lo\": " << num(pd.lo)
                << ", \"difference_ci95_hi\": " << num(pd.hi) << ", \"mcnemar_exact_p\": " << num(t.exact_p)
                << ", \"mcnemar_chi2_cc\": " << num(t.chi2) << ", \"mcnemar_chi2_p\": " << num(t.chi2_p)
-               << ", \"verdict\": \"" << verdict << "\"}";
+               << ", \"verdict\": \"" << verdict << "\", \"movers_only_" << methods[0] << "_free\": " << mb[m]
+               << ", \"movers_only_baseline_free\": " << mc[m] << ", \"movers_difference\": " << num(pm.diff)
+               << ", \"movers_difference_ci95_lo\": " << num(pm.lo) << ", \"movers_difference_ci95_hi\": " << num(pm.hi)
+               << ", \"movers_mcnemar_exact_p\": " << num(tm.exact_p) << ", \"movers_verdict\": \"" << mverdict
+               << "\"}";
         first_pair = false;
         std::printf("  paired %s vs %-15s N_d=%3d: both free %lld, only %s %lld, only %s %lld, both contact %lld; "
                     "diff %+.2f %% [%+.2f, %+.2f]; McNemar exact p=%.3g, chi2=%.2f p=%.3g -> %s\n",
                     methods[0].c_str(), methods[m].c_str(), d, (long long)both_free[m], methods[0].c_str(),
                     (long long)b[m], methods[m].c_str(), (long long)c[m], (long long)both_contact[m], 100.0 * pd.diff,
                     100.0 * pd.lo, 100.0 * pd.hi, t.exact_p, t.chi2, t.chi2_p, verdict);
+        std::printf("    movers only (static contacts set aside): only %s free %lld, only %s free %lld; diff %+.2f %% "
+                    "[%+.2f, %+.2f]; McNemar exact p=%.3g -> %s\n",
+                    methods[0].c_str(), (long long)mb[m], methods[m].c_str(), (long long)mc[m], 100.0 * pm.diff,
+                    100.0 * pm.lo, 100.0 * pm.hi, tm.exact_p, mverdict);
       }
       auto breakdown = [&](std::map<std::string, std::vector<Count>>& table, const char* key,
                            const std::vector<std::string>& order, std::ostringstream& js, bool& first) {
