@@ -384,6 +384,60 @@ TEST(PlannerNode, GivenTheSameInputsTwiceThenTheOutputsAreByteIdentical) {
   EXPECT_EQ(a, b);
 }
 
+TEST(PlannerNode, GivenItsProblemAskedBeforeEveryTickThenItPlansByteIdenticallyAndSolvesThatProblem) {
+  // problem() is a look-ahead for the benchmark's open-loop protocol: it must not change what
+  // the node plans, and its request must be the one the node's first optimiser run solves.
+  struct Run {
+    std::vector<uint8_t> bytes;
+    std::vector<trajectory_t> trajectories;
+    int problems = 0;
+    trajopt::PlanOutput first;  ///< the first problem solved by an optimiser of the node's parameters
+    int64_t first_start = 0;
+    std::size_t first_obstacles = 0;
+  };
+  auto run = [](bool probe) {
+    Fixture f;
+    Run r;
+    EXPECT_FALSE(f.node->problem(kT0).has_value());  // no goal yet
+    f.node->onGoal(goal(kT0, 5.0, 1.0));
+    trajopt::TrajectoryOptimizer opt(f.params.optimizer, f.params.prediction.model());
+    for (int k = 0; k < 25; ++k) {
+      const int64_t t = kT0 + k * 20000;
+      Eigen::Vector3d p = f.node->currentTrajectory().valid() ? f.node->currentTrajectory().position(t)
+                                                             : Eigen::Vector3d::Zero();
+      f.feed(t, p.x(), p.y(), {object(5, 3.0, 2.0, 0.0, -0.6), object(6, 1.0, -2.0, 0.3, 0.5)});
+      if (probe) {
+        const auto req = f.node->problem(t);
+        EXPECT_TRUE(req.has_value());
+        if (req && r.problems++ == 0) {
+          EXPECT_NE(req->field, nullptr);
+          r.first_start = req->start_utime;
+          r.first_obstacles = req->obstacles.size();
+          r.first = opt.plan(*req);  // while the node (and its map) lives
+        }
+      }
+      const auto out = f.node->tick(t);
+      if (!out.trajectory) continue;
+      r.trajectories.push_back(*out.trajectory);
+      std::vector<uint8_t> buf(out.trajectory->getEncodedSize());
+      out.trajectory->encode(buf.data(), 0, int(buf.size()));
+      r.bytes.insert(r.bytes.end(), buf.begin(), buf.end());
+    }
+    return r;
+  };
+  const Run plain = run(false);
+  const Run probed = run(true);
+  EXPECT_GT(plain.bytes.size(), 1000u);
+  EXPECT_EQ(plain.bytes, probed.bytes);
+  EXPECT_EQ(probed.problems, 25);
+  EXPECT_EQ(probed.first_start, kT0 + int64_t(loadDeployParams().latency_s * 1e6));
+  EXPECT_EQ(probed.first_obstacles, 2u);
+  ASSERT_EQ(probed.first.status, trajopt::PlanStatus::kOk) << probed.first.message;
+  ASSERT_FALSE(plain.trajectories.empty());
+  EXPECT_EQ(plain.trajectories.front().coeffs, probed.first.trajectory.coeffs);
+  EXPECT_EQ(plain.trajectories.front().durations, probed.first.trajectory.durations);
+}
+
 TEST(PlannerNode, GivenAStreamOfMoversAcrossADeadEndThenNothingPassesTheCheckAndItBrakes) {
   // The robot stands in a pocket open towards +x (walls 0.5 m behind it and beside it); a
   // stream of movers passes across the opening, 0.85 m ahead. Every plan and detour out meets

@@ -262,8 +262,7 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
   const StartState start = startState(now);
   updateMap(start.p, &cycle.info);
   const GuidePath guide = searchGuidePath(start.p, &cycle.info);
-  if (guide.status == GuideStatus::kNoMap || guide.status == GuideStatus::kStartOutsideMap ||
-      guide.status == GuideStatus::kBadInput) {
+  if (guideUnusable(guide)) {
     return stop(cycle, PlanResult::kStopNoFeasible, std::string("front end: ") + toString(guide.status));
   }
   const std::string guide_note = noteOnGuide(guide);
@@ -275,6 +274,29 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
   trajectory::PiecewisePolynomial accepted;
   if (!passedCheck(po, &accepted, &cycle.info)) return fallBack(cycle, start, po);
   return follow(cycle, accepted, guide_note);
+}
+
+std::optional<trajopt::PlanRequest> PlannerNode::problem(int64_t utime) {
+  clock_.observe(utime);
+  const int64_t now = clock_.now();
+  if (now <= 0 || !goal_ || missingInput() || goalReached()) return std::nullopt;
+  PlanInfo info;  // timings of this look-ahead are not reported
+  const StartState start = startState(now);
+  updateMap(start.p, &info);
+  const GuidePath guide = searchGuidePath(start.p, &info);
+  if (guideUnusable(guide)) return std::nullopt;
+  const InitialGuess guess = initialGuess(guide, start, 0);
+  if (guess.length < 0.05 && start.v.norm() < 0.05) return std::nullopt;
+  trajopt::PlanRequest req = requestFrom(start);
+  req.goal.col(0) = guess.end;
+  req.inner_waypoints = guess.waypoints;
+  req.durations = guess.durations;
+  return req;
+}
+
+bool PlannerNode::guideUnusable(const GuidePath& guide) {
+  return guide.status == GuideStatus::kNoMap || guide.status == GuideStatus::kStartOutsideMap ||
+         guide.status == GuideStatus::kBadInput;
 }
 
 std::optional<PlanResult> PlannerNode::missingInput() const {

@@ -1,6 +1,11 @@
 // ucon-bench-planning: the paper's Table II (trajectory optimisation among moving obstacles)
-// on this machine. Every (method, N_d, seed) is one closed-loop run (closed_loop.hpp); methods
-// run side by side on the same worlds. Prints a table beside the paper's numbers and writes JSON.
+// on this machine, in two protocols on the same worlds:
+//  - closed: every (method, N_d, seed) is one closed-loop run (closed_loop.hpp); prints the
+//    success rate beside the paper's numbers.
+//  - open: the paired open-loop probes of open_loop.hpp (a reference closed loop per (N_d,
+//    seed); every method solves the same planner problems; raw plans played against the true
+//    motion), with McNemar's test of the sector against each baseline (open_report.hpp).
+// Both observe the movers as all seen or in line of sight within a range (observation.hpp).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -17,6 +22,8 @@
 #include <vector>
 
 #include "closed_loop.hpp"
+#include "open_loop.hpp"
+#include "open_report.hpp"
 #include "../bench_util.hpp"
 #include "ucon/config.hpp"
 #include "ucon/world/bench_generator.hpp"
@@ -65,6 +72,13 @@ int main(int argc, char** argv) {
   bool verbose = false;
   bool trace = false;
   double expect_min_success = -1.0;
+  std::string protocol = "closed";
+  std::string observe = "all";
+  double range = 12.0;
+  std::string horizons = "3";
+  double shuttle_s = 50.0;
+  double probe_start_s = 3.0, probe_period_s = 1.0;
+  double expect_min_contact_free = -1.0;
   app.add_option("--json", json_path, "write results as JSON to this file");
   app.add_option("--seeds", seeds, "worlds per setting (seeds B .. B+N-1)")->check(CLI::PositiveNumber);
   app.add_option("--seed-base", seed_base, "first seed");
@@ -78,9 +92,38 @@ int main(int argc, char** argv) {
   app.add_option("--expect-min-success", expect_min_success,
                  "exit 1 if the sector method's success rate is below this (0..1) at any density (ctest)");
   app.add_flag("--trace", trace, "print every plan that did not end OK (use with one seed and --jobs 1)");
+  app.add_option("--protocol", protocol, "closed: closed-loop runs to the goal; open: paired open-loop probes (issue 31)")
+      ->check(CLI::IsMember({"closed", "open"}));
+  app.add_option("--observe", observe, "all: every mover measured every frame; los: only in line of sight within --range")
+      ->check(CLI::IsMember({"all", "los"}));
+  app.add_option("--range", range, "sensing range with --observe los [m] (FAPP-like: 5)")->check(CLI::PositiveNumber);
+  app.add_option("--horizon", horizons,
+                 "open: comma list of evaluation horizons [s]; the probes' dynamic cost and check cover each (> 0.5)");
+  app.add_option("--shuttle-s", shuttle_s, "open: the reference robot shuttles between start and goal this long [s]")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--probe-start-s", probe_start_s, "open: first probe this long after the goal is sent [s]")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--probe-period-s", probe_period_s, "open: time between probes [s]")->check(CLI::PositiveNumber);
+  app.add_option("--expect-min-contact-free", expect_min_contact_free,
+                 "open: exit 1 if any method's contact-free rate is below this (0..1) in any cell (ctest)");
   CLI11_PARSE(app, argc, argv);
+  std::string command = "ucon-bench-planning";
+  for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+  ucon::bench::ObserveMode observe_mode;
+  ucon::bench::parseObserveMode(observe, &observe_mode);
+  std::vector<double> horizon_list;
+  for (const auto& h : split(horizons)) {
+    char* end = nullptr;
+    const double v = std::strtod(h.c_str(), &end);
+    if (end == h.c_str() || *end != '\0' || !(v > 0.5) || !(v <= 20.0)) {
+      std::cerr << "ucon-bench-planning: bad --horizon '" << h << "' (seconds, 0.5 < S <= 20)\n";
+      return 2;
+    }
+    horizon_list.push_back(v);
+  }
   if (quick) {
     if (app.count("--seeds") == 0) seeds = 2;
+    if (app.count("--shuttle-s") == 0) shuttle_s = 15.0;
     if (app.count("--densities") == 0) densities = "50";
     if (app.count("--timeout-s") == 0) timeout_s = 60.0;
   }
@@ -109,6 +152,87 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (density_list.empty() || method_list.empty() || horizon_list.empty()) {
+    std::cerr << "ucon-bench-planning: empty --densities, --methods or --horizon\n";
+    return 2;
+  }
+
+  if (protocol == "open") {
+    if (method_list.size() < 2 || method_list[0] != "sector") {
+      std::cerr << "ucon-bench-planning: --protocol open compares the sector with baselines: --methods must start "
+                   "with sector and name at least one more\n";
+      return 2;
+    }
+    std::vector<ucon::bench::OpenRunKey> keys;
+    for (int d : density_list)
+      for (int s = 0; s < seeds; ++s) keys.push_back({d, seed_base + uint64_t(s)});
+    std::vector<ucon::bench::OpenLoopResult> runs(keys.size());
+    std::atomic<std::size_t> next{0};
+    std::mutex print_mutex;
+    auto worker = [&] {
+      for (std::size_t i = next++; i < keys.size(); i = next++) {
+        ucon::bench::OpenLoopConfig oc;
+        oc.run.method = "sector";  // the reference policy: the sector planner's closed loop
+        oc.run.n_dynamic = keys[i].n_dynamic;
+        oc.run.seed = keys[i].seed;
+        oc.run.observe = observe_mode;
+        oc.run.sensing_range = range;
+        oc.run.shuttle_s = shuttle_s;
+        oc.run.probe_start_s = probe_start_s;
+        oc.run.probe_period_s = probe_period_s;
+        oc.methods = method_list;
+        oc.horizons = horizon_list;
+        runs[i] = ucon::bench::runOpenLoop(*params, oc);
+        if (verbose) {
+          const auto& r = runs[i];
+          std::lock_guard<std::mutex> lock(print_mutex);
+          std::printf("N_d=%3d seed=%4llu probes=%zu skipped=%d legs=%d %s tracks=%lld coasting=%lld\n",
+                      keys[i].n_dynamic, (unsigned long long)keys[i].seed, r.probes.size(), r.skipped,
+                      r.run.goals_reached, r.run.collision ? "REFERENCE COLLISION" : "",
+                      (long long)r.run.tracks_started, (long long)r.run.coasting_frames);
+          std::fflush(stdout);
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int j = 0; j < std::max(1, jobs); ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    const ucon::world::BenchParams bp;
+    std::ostringstream settings;
+    settings << "\"generator\": \"bench:<N_d>:<seed>\", \"seeds\": " << seeds << ", \"seed_base\": " << seed_base
+             << ", \"reference_policy\": \"the sector planner's closed loop, shuttling between start and goal\""
+             << ", \"shuttle_s\": " << num(shuttle_s) << ", \"probe_start_s\": " << num(probe_start_s)
+             << ", \"probe_period_s\": " << num(probe_period_s) << ", \"observe\": \"" << observe << "\""
+             << ", \"sensing_range_m\": " << (observe == "los" ? num(range) : std::string("null"))
+             << ", \"observation_hz\": 50, \"observation_noise_std_m\": 0.05"
+             << ", \"robot_radius_m\": " << num(bp.robot_radius) << ", \"planner_hz\": " << num(params->rate_hz)
+             << ", \"latency_s\": " << num(params->latency_s) << ", \"jobs\": " << jobs;
+    if (!ucon::bench::reportOpenLoop(keys, runs, method_list, horizon_list, density_list, command, settings.str(),
+                                     json_path))
+      return 1;
+    int rc = 0;
+    if (expect_min_contact_free >= 0.0) {
+      const std::size_t nm = method_list.size();
+      for (std::size_t h = 0; h < horizon_list.size(); ++h) {
+        for (std::size_t m = 0; m < nm; ++m) {
+          int64_t n = 0, free = 0;
+          for (const auto& r : runs)
+            for (const auto& p : r.probes) {
+              ++n;
+              free += p.outcomes[h * nm + m].contactFree();
+            }
+          if (n == 0 || double(free) / double(n) < expect_min_contact_free) {
+            std::fprintf(stderr, "ucon-bench-planning: %s contact-free %lld of %lld plans at %.1f s, below %.2f\n",
+                         method_list[m].c_str(), (long long)free, (long long)n, horizon_list[h],
+                         expect_min_contact_free);
+            rc = 1;
+          }
+        }
+      }
+    }
+    return rc;
+  }
+
   // Same worlds for every method: seeds outermost so a partial run compares like with like.
   std::vector<Task> tasks;
   for (int d : density_list)
@@ -125,6 +249,8 @@ int main(int argc, char** argv) {
       rc.seed = tasks[i].seed;
       rc.timeout_s = timeout_s;
       rc.trace = trace;
+      rc.observe = observe_mode;
+      rc.sensing_range = range;
       results[i] = ucon::bench::runClosedLoop(*params, rc);
       if (verbose) {
         const auto& r = results[i];
@@ -175,7 +301,7 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("\nTable II on this machine (%d seeds from %llu, %u hardware threads, %d jobs)\n", seeds,
+  std::printf("\n%s\nTable II on this machine (%d seeds from %llu, %u hardware threads, %d jobs)\n", command.c_str(), seeds,
               (unsigned long long)seed_base, std::thread::hardware_concurrency(), jobs);
   std::printf("%-15s %5s | %7s %6s %6s %6s %8s %8s %8s | paper: %5s %6s %5s\n", "method", "N_d", "eta[%]",
               "coll", "tmout", "E", "tp_mean", "tp_med", "tp_p95", "eta", "tp", "E");
@@ -224,6 +350,7 @@ int main(int argc, char** argv) {
        << num(bp.robot_max_speed) << ", \"robot_max_accel_mps2\": " << num(bp.robot_max_accel)
        << ", \"start_x_m\": " << num(bp.start_x) << ", \"goal_x_m\": " << num(bp.goal_x)
        << ", \"timeout_s\": " << num(timeout_s) << ", \"observation_hz\": 50, \"observation_noise_std_m\": 0.05"
+       << ", \"observe\": \"" << observe << "\", \"sensing_range_m\": " << (observe == "los" ? num(range) : std::string("null"))
        << ", \"planner_hz\": " << num(params->rate_hz) << ", \"seeds\": " << seeds << ", \"seed_base\": " << seed_base
        << ", \"jobs\": " << jobs << ", \"static_map\": \"built from the world's static footprints\"},\n"
        << "  \"results\": [\n";

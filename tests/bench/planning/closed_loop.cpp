@@ -50,42 +50,60 @@ void buildStaticMap(const world::World& w, planner::EsdfMap& map) {
 
 }  // namespace
 
-RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg) {
-  RunResult res;
-  const world::Scenario sc = world::generateBench(cfg.n_dynamic, cfg.seed);
-  world::World w(sc);
-
+bool benchParams(const planner::PlannerParams& base, const world::Scenario& sc, const std::string& method,
+                 planner::PlannerParams* out) {
   planner::PlannerParams params = base;
-  if (!trajopt::parseObstacleModel(cfg.method, &params.optimizer.obstacle_model)) return res;
+  if (!trajopt::parseObstacleModel(method, &params.optimizer.obstacle_model)) return false;
   params.optimizer.robot_radius = sc.robot.radius;
   params.optimizer.max_velocity = sc.robot.max_speed;
   params.optimizer.max_acceleration = sc.robot.max_accel;
   params.optimizer.use_time_budget = false;
   params.workspace = {sc.bounds.xmin, sc.bounds.xmax, sc.bounds.ymin, sc.bounds.ymax};
+  *out = params;
+  return true;
+}
+
+RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg) {
+  RunResult res;
+  const world::Scenario sc = world::generateBench(cfg.n_dynamic, cfg.seed);
+  world::World w(sc);
+
+  planner::PlannerParams params;
+  if (!benchParams(base, sc, cfg.method, &params)) return res;
 
   StatusReport report("planner");
   planner::PlannerNode node(params, report);
   buildStaticMap(w, node.map());
   node.prepareMap(sc.robot.start);
 
-  // Trackers: one filter per mover, perfect association (ids from the ground truth).
-  kalman::KalmanParams tracker = params.prediction.model();
-  tracker.position_std = cfg.noise_std;
-  tracker.velocity_std = cfg.tracker_velocity_std;
-  tracker.initial_velocity_std = cfg.tracker_initial_velocity_std;
-  std::vector<kalman::ConstantVelocityKalman> filters(w.numMovers(), kalman::ConstantVelocityKalman(tracker));
-  world::Rng noise(world::deriveSeed(cfg.seed, 0x5eed));
+  // Trackers (observation.hpp): perfect association, ids from the ground truth or per track.
+  ObserveConfig oc;
+  oc.mode = cfg.observe;
+  oc.range = cfg.sensing_range;
+  oc.noise_std = cfg.noise_std;
+  oc.kalman = params.prediction.model();
+  oc.kalman.position_std = cfg.noise_std;
+  oc.kalman.velocity_std = cfg.tracker_velocity_std;
+  oc.kalman.initial_velocity_std = cfg.tracker_initial_velocity_std;
+  oc.max_coast = cfg.max_coast;
+  oc.coast_velocity_decay = cfg.coast_velocity_decay;
+  Observer observer(w, oc, cfg.seed);
 
   const double dt = 1.0 / cfg.observe_hz;
   const int64_t dt_us = int64_t(std::llround(dt * 1e6));
-  const world::Vec2 goal = sc.robot.goals.empty() ? world::Vec2(22.0, 0.0) : sc.robot.goals.front();
+  world::Vec2 goal = sc.robot.goals.empty() ? world::Vec2(22.0, 0.0) : sc.robot.goals.front();
+  const world::Vec2 far_goal = goal;
+  int32_t goal_id = 1;
   Eigen::Vector2d robot = sc.robot.start;
   Eigen::Vector2d robot_v = Eigen::Vector2d::Zero();
   trajectory::PiecewisePolynomial active, pending;
   bool goal_sent = false;
   double jerk_sum = 0.0;
   int64_t jerk_n = 0;
-  const int steps = int(std::ceil((cfg.timeout_s + cfg.warmup_s) / dt));
+  const bool shuttle = cfg.shuttle_s > 0.0;
+  const int steps = int(std::ceil(((shuttle ? cfg.shuttle_s : cfg.timeout_s) + cfg.warmup_s) / dt));
+  const int64_t probe_first = std::llround((cfg.warmup_s + cfg.probe_start_s) / dt);
+  const int64_t probe_every = std::max<int64_t>(1, std::llround(cfg.probe_period_s / dt));
 
   for (int k = 0; k <= steps; ++k) {
     const double t = k * dt;
@@ -118,9 +136,15 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
       break;
     }
     if (goal_sent && (robot - goal).norm() <= cfg.goal_tolerance) {
-      res.success = true;
-      res.time_s = t - cfg.warmup_s;
-      break;
+      ++res.goals_reached;
+      if (!shuttle) {
+        res.success = true;
+        res.time_s = t - cfg.warmup_s;
+        break;
+      }
+      goal = (goal - far_goal).norm() < 1e-9 ? world::Vec2(sc.robot.start) : far_goal;
+      ++goal_id;
+      goal_sent = false;  // sent below, this frame
     }
 
     // Pose.
@@ -142,33 +166,14 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
     objs.valid = true;
     objs.frame_seq = k;
     objs.frame_id = "world";
-    for (std::size_t i = 0; i < w.numMovers(); ++i) {
-      const world::ObstacleState& o = w.movers()[i];
-      const Eigen::Vector3d z(o.position.x() + cfg.noise_std * noise.normal(),
-                              o.position.y() + cfg.noise_std * noise.normal(), 0.5 * o.height);
-      auto& f = filters[i];
-      if (!f.initialised()) {
-        f.init(z, Eigen::Vector3d::Zero());
-      } else {
-        f.predict(dt);
-        f.updatePosition(z);
-      }
-      perception::ObjectEstimate e;  // confirmed, measured at object level
-      e.id = o.id;
-      e.x = f.state();
-      e.P = f.covariance();
-      e.size << 2.0 * o.radius, 2.0 * o.radius, o.height;
-      e.num_points = 50;
-      e.age_frames = k + 1;
-      objs.objects.push_back(perception::toMessage(e));
-    }
+    for (const auto& e : observer.frame(dt, robot)) objs.objects.push_back(perception::toMessage(e));
     objs.num_objects = int32_t(objs.objects.size());
     node.onObjects(objs);
 
     if (!goal_sent && t >= cfg.warmup_s) {
       nav_goal_t g{};
       g.utime = utime;
-      g.goal_id = 1;
+      g.goal_id = goal_id;
       g.action = nav_goal_t::ACTION_GO;
       g.x = goal.x();
       g.y = goal.y();
@@ -176,6 +181,11 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
       g.tolerance = cfg.goal_tolerance * 0.5;  // the node holds only once well inside
       node.onGoal(g);
       goal_sent = true;
+    }
+
+    if (cfg.probe && res.goals_reached + (goal_sent ? 1 : 0) > 0 && k >= probe_first &&
+        (k - probe_first) % probe_every == 0) {
+      cfg.probe(ProbeContext{node, w, observer, t, utime, robot});
     }
 
     const double cpu0 = threadCpuMs();
@@ -208,6 +218,9 @@ RunResult runClosedLoop(const planner::PlannerParams& base, const RunConfig& cfg
     }
   }
   res.jerk_mean = jerk_n > 0 ? jerk_sum / double(jerk_n) : 0.0;
+  res.measurements = observer.measurements();
+  res.coasting_frames = observer.coastingFrames();
+  res.tracks_started = observer.tracksStarted();
   for (const char* name : {"rejected_limit_violation", "rejected_static_collision", "rejected_dynamic_collision",
                            "rejected_optimiser_failed", "rejected_invalid_input", "result_kept_previous",
                            "replans_unsafe", "plan_restarts_from_pose", "goal_unreachable", "escape_attempts",

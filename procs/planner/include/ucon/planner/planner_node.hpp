@@ -109,6 +109,14 @@ class PlannerNode {
   /// horizon, limits) of `traj` from `from_utime` on against the current map and obstacles.
   trajopt::SafetyCheck check(const trajectory_t& traj, int64_t from_utime) const;
 
+  /// The problem a plan at `utime` would give the optimiser first: the start at utime +
+  /// latency (startState), the nominal initial guess along the guide path (searchGuidePath),
+  /// the map and the obstacles. Empty where such a plan stops before optimising (inputs
+  /// missing or stale, goal reached, no usable guide path, no progress possible). Observes
+  /// the clock and brings the map up to date as tick() does, publishes nothing and leaves the
+  /// plan being followed alone; a tick() at the same `utime` afterwards plans as it would
+  /// have. The benchmark's open-loop protocol solves it with every obstacle model.
+  std::optional<trajopt::PlanRequest> problem(int64_t utime);
 
  private:
   /// Start of a plan: position, velocity, acceleration at `utime`.
@@ -148,6 +156,8 @@ class PlannerNode {
   trajopt::PlanRequest requestFrom(const StartState& start) const;
   /// The optimiser's runs toward the goal (max_attempts), until one passes its check.
   trajopt::PlanOutput optimise(const StartState& start, const GuidePath& guide, Cycle& cycle);
+  /// The front end gave nothing to optimise along (no map, start outside it, bad input).
+  static bool guideUnusable(const GuidePath& guide);
   /// The plan being followed still passes the check (and did not trigger this cycle).
   bool previousStillSafe(const Cycle& cycle) const;
   void reportOptimiserResult(const trajopt::PlanOutput& po, PlanInfo* info);
