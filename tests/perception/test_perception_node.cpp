@@ -322,6 +322,23 @@ TEST(PerceptionNode, GivenBadInputThenNothingCrashesEverythingIsCountedAndOutput
   EXPECT_GT(msg.num_counters, 10);
 }
 
+TEST(PerceptionNode, GivenAFrameEndingAfterTheNewestPoseThenItIsProcessedAndCountedAsExtrapolated) {
+  PerceptionNode node(testParams());
+  scene::Generator gen;
+  const std::vector<scene::Person> people{{2.0, -1.0, 1.0, 0.0}};
+  node.onPose(scene::pose(scene::frameTime(0)));
+  node.onPose(scene::pose(scene::frameTime(0) + 10'000));
+  auto out = node.onPoints(gen.frame(0, people, kWalls));  // a 20 ms frame, poses for its first 10 ms
+  ASSERT_TRUE(out.objects);
+  EXPECT_TRUE(out.objects->valid);
+  EXPECT_EQ(node.status().counter("frames_pose_extrapolated"), 1);
+  node.onPose(scene::pose(scene::frameTime(2)));  // the end of frame 1
+  out = node.onPoints(gen.frame(1, people, kWalls));
+  ASSERT_TRUE(out.objects);
+  EXPECT_TRUE(out.objects->valid);
+  EXPECT_EQ(node.status().counter("frames_pose_extrapolated"), 1);
+}
+
 TEST(PerceptionNode, GivenNoFramesForLongerThanTheTimeoutThenTickPublishesAnInvalidOutputOnce) {
   PerceptionParams p = testParams();
   PerceptionNode node(p);

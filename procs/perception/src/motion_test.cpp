@@ -60,18 +60,31 @@ bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const 
   // A direction no reference chunk looked in counts as moved (nothing was known to be there).
   // The vanishing test needs every chunk to have stopped short of the point: one ray of the
   // window passing beside a nearer edge in the same bin makes the bin ambiguous.
+  // "Saw past it" also needs no return of the bin clearly in front of the point: a bin holds
+  // rays on both sides of an edge (a box corner, a pillar), and a chunk's rays leave from the
+  // origins of its frames, not only from its first one (a driving sensor moves centimetres per
+  // chunk), so the face an edge hid shares bins with rays that passed beside the edge. Such a
+  // bin is no evidence either way. (A return at the point's own range is no occluder: someone
+  // walking in another's footsteps is seen where the other was.)
   const float margin = static_cast<float>(params_.free_space_margin);
   float best_seen = 0.0f, best_range = 0.0f;
   const HistoryChunk* best = nullptr;
+  bool mixed = false;
   for (const HistoryChunk* c : ref_chunks_) {
     const Eigen::Vector3f ray = p - c->origin;
     const float range = ray.norm();
     if (!(range > 0.0f)) continue;
-    const float seen = c->max_range[static_cast<std::size_t>(grid_.bin(ray))];
+    const auto bin = static_cast<std::size_t>(grid_.bin(ray));
+    const float seen = c->max_range[bin];
     if (seen == 0.0f) continue;
-    if (seen > range + margin) return true;
+    if (seen > range + margin) {
+      if (c->min_range[bin] >= range - margin) return true;
+      mixed = true;
+      continue;
+    }
     if (best == nullptr || seen - range > best_seen - best_range) best = c, best_seen = seen, best_range = range;
   }
+  if (mixed) return false;
   if (best == nullptr) return true;
   if (best_seen >= best_range - margin) return false;
   // The gap bounds how far the object moved; a larger one is more likely structure revealed
@@ -95,13 +108,16 @@ void MotionTest::push(const Frame& frame, const std::vector<char>& tracked_point
   if (c.max_range.empty()) {
     c.origin = frame.sensor_origin;
     c.max_range.assign(static_cast<std::size_t>(grid_.size()), 0.0f);
+    c.min_range.assign(static_cast<std::size_t>(grid_.size()), INFINITY);
   }
   // Free-space evidence of the newest frame: every return, ground included (frame.points
   // holds the last frames again, cropped).
   for (const auto& p : frame.returns) {
     const Eigen::Vector3f ray = p - c.origin;
-    float& m = c.max_range[static_cast<std::size_t>(grid_.bin(ray))];
-    m = std::max(m, ray.norm());
+    const auto bin = static_cast<std::size_t>(grid_.bin(ray));
+    const float r = ray.norm();
+    c.max_range[bin] = std::max(c.max_range[bin], r);
+    c.min_range[bin] = std::min(c.min_range[bin], r);
   }
   c.last_utime = utime;
   // Reference points: what this frame did not give to a track. Someone walking where a tracked

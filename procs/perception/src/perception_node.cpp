@@ -69,7 +69,7 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
   // Counters exist from the start so the status always lists them.
   for (const char* c : {"frames_in", "frames_processed", "frames_repeated", "frames_out_of_order",
                         "frames_bad_utime", "frames_malformed", "frames_bad_frame_id", "frames_empty",
-                        "frames_no_pose", "frames_stale_pose", "points_in", "points_non_finite",
+                        "frames_no_pose", "frames_stale_pose", "frames_pose_extrapolated", "points_in", "points_non_finite",
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
                         "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
@@ -154,8 +154,9 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
 
   // 1. Pre-processing.
   double t = stopwatch_();
-  const int64_t non_finite = preprocessor_.process(cloud, *pose, &frame_);
-  if (non_finite) status_.count("points_non_finite", non_finite);
+  const Preprocessor::Result pre = preprocessor_.process(cloud, *pose, poses_, params_.pose_max_gap, &frame_);
+  if (pre.non_finite) status_.count("points_non_finite", pre.non_finite);
+  if (pre.pose_extrapolated) status_.count("frames_pose_extrapolated");
   status_.time("preprocess", elapsedMs(t));
 
   // 2. Clustering, motion test, support from the tracks' predictions.

@@ -13,7 +13,10 @@ PoseBuffer::AddResult PoseBuffer::add(const robot_pose_t& pose) {
   if (!p.allFinite() || !q.coeffs().allFinite() || q.norm() < 1e-6) return AddResult::kNonFinite;
   if (!poses_.empty() && pose.utime <= poses_.back().utime) return AddResult::kOutOfOrder;
   q.normalize();
-  poses_.push_back({pose.utime, p, q});
+  Eigen::Vector3d v(pose.vx, pose.vy, pose.vz), w(pose.wx, pose.wy, pose.wz);
+  if (!v.allFinite()) v.setZero();
+  if (!w.allFinite()) w.setZero();
+  poses_.push_back({pose.utime, p, q, v, w});
   while (poses_.size() > 2 && poses_.front().utime < pose.utime - window_us_) poses_.pop_front();
   return AddResult::kAdded;
 }
@@ -32,8 +35,14 @@ std::optional<Eigen::Isometry3d> PoseBuffer::at(int64_t utime, double max_gap_s)
     return make(poses_.front().p, poses_.front().q);
   }
   if (utime >= poses_.back().utime) {
-    if (utime - poses_.back().utime > max_gap_us) return std::nullopt;
-    return make(poses_.back().p, poses_.back().q);
+    const Stamped& n = poses_.back();
+    if (utime - n.utime > max_gap_us) return std::nullopt;
+    // Constant velocity over the gap (at most max_gap_s): the body turns about its own axes.
+    const double dt = static_cast<double>(utime - n.utime) * 1e-6;
+    const double angle = n.w.norm() * dt;
+    const Eigen::Quaterniond dq =
+        angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, n.w.normalized())) : Eigen::Quaterniond::Identity();
+    return make(n.p + dt * n.v, (n.q * dq).normalized());
   }
   auto it = std::lower_bound(poses_.begin(), poses_.end(), utime,
                              [](const Stamped& s, int64_t t) { return s.utime < t; });

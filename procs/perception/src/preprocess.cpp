@@ -9,7 +9,8 @@ namespace perception {
 Preprocessor::Preprocessor(const PreprocessParams& params, const AngularGrid& fine, const AngularGrid& coarse)
     : params_(params), fine_(fine), coarse_(coarse) {}
 
-int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3d& pose, Frame* frame) {
+Preprocessor::Result Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3d& pose,
+                                           const PoseBuffer& poses, double max_gap_s, Frame* frame) {
   const PreprocessParams& p = params_;
   Frame& f = *frame;
   const bool in_world = cloud.frame_id == "world";  // once, not a string compare per point
@@ -25,25 +26,48 @@ int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3
                           : pose * Eigen::Vector3d(so[0], so[1], so[2]);
   f.sensor_origin = f.sensor_origin_d.cast<float>();
 
-  const Eigen::Matrix3f R = T.linear().cast<float>();
-  const Eigen::Vector3f tr = T.translation().cast<float>();
-  const Eigen::Vector3f centre = pose.translation().cast<float>();  // robot centre in the world
+  // The pose across the frame's span, every kPoseStepUs: knot k holds the pose at
+  // utime + k * kPoseStepUs (knot 0 the frame's pose). A pose missing within the span (a hole
+  // in the stream, or past max_gap_s after the newest) holds the knot before it.
+  Result result;
+  const std::size_t n_points = static_cast<std::size_t>(cloud.num_points);
+  const bool timed = !in_world && cloud.t_offset_ns.size() == n_points && cloud.duration_us > 0;
+  const int64_t span_us = timed ? std::min<int64_t>(cloud.duration_us, kMaxSpanUs) : 0;
+  const std::size_t n_knots = timed ? static_cast<std::size_t>(span_us / kPoseStepUs) + 2 : 1;
+  knot_rotation_.resize(n_knots);
+  knot_translation_.resize(n_knots);
+  knot_rotation_[0] = T.linear().cast<float>();
+  knot_translation_[0] = T.translation().cast<float>();
+  for (std::size_t k = 1; k < n_knots; ++k) {
+    const int64_t t = cloud.utime + static_cast<int64_t>(k) * kPoseStepUs;
+    const auto P = poses.at(t, max_gap_s);
+    knot_rotation_[k] = P ? Eigen::Matrix3f(P->linear().cast<float>()) : knot_rotation_[k - 1];
+    knot_translation_[k] = P ? Eigen::Vector3f(P->translation().cast<float>()) : knot_translation_[k - 1];
+  }
+  const Eigen::Vector3f robot_centre = pose.translation().cast<float>();  // world clouds: at utime
+  result.pose_extrapolated = timed && cloud.utime + span_us > poses.newestUtime();
   const float min_r2 = static_cast<float>(p.min_range * p.min_range);
   const float max_r2 = static_cast<float>(p.max_range * p.max_range);
   Points kept;
   kept.reserve(static_cast<std::size_t>(cloud.num_points));
   f.returns.clear();
-  int64_t non_finite = 0;
   // Several sensors: only the first one's returns are free-space evidence, since the free-space
   // test casts rays from that sensor's origin (another sensor's ray starts elsewhere).
   const bool several = cloud.num_sensors > 1 && cloud.num_point_sensors == cloud.num_points;
   for (int i = 0; i < cloud.num_points; ++i) {
     const Eigen::Vector3f b(cloud.x[i], cloud.y[i], cloud.z[i]);
     if (!b.allFinite()) {
-      ++non_finite;
+      ++result.non_finite;
       continue;
     }
-    const Eigen::Vector3f w = in_world ? b : Eigen::Vector3f(R * b + tr);
+    std::size_t k = 0;
+    if (timed) {
+      const int64_t off_us = std::clamp<int64_t>(cloud.t_offset_ns[static_cast<std::size_t>(i)] / 1000, 0, span_us);
+      k = static_cast<std::size_t>((off_us + kPoseStepUs / 2) / kPoseStepUs);
+    }
+    const Eigen::Vector3f w = in_world ? b : Eigen::Vector3f(knot_rotation_[k] * b + knot_translation_[k]);
+    // Horizontal range from the robot's centre at the point's time.
+    const Eigen::Vector3f& centre = in_world ? robot_centre : knot_translation_[k];
     const float r2 = (w.head<2>() - centre.head<2>()).squaredNorm();
     if (r2 < min_r2) continue;
     // Ground and far returns are not objects, but the space their rays crossed was free: the
@@ -77,7 +101,7 @@ int64_t Preprocessor::process(const point_cloud_t& cloud, const Eigen::Isometry3
     n = std::min(n, ray.norm());
   }
   f.moved.assign(f.points.size(), 0);
-  return non_finite;
+  return result;
 }
 
 }  // namespace perception

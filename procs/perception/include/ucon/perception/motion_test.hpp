@@ -6,7 +6,8 @@
 /// The reference history merges consecutive frames into chunks of ~history_chunk seconds, each
 /// indexed once when it closes (a few grid queries per point instead of one per frame; the test
 /// only asks whether any reference point lies near, see ProximityIndex). Each chunk also keeps
-/// the farthest return per direction seen from its sensor origin: what it saw to be free.
+/// the farthest and the nearest return per direction seen from its sensor origin: the space at
+/// a point was free where a return of its bin lay beyond it and none clearly in front of it.
 
 #include <cstdint>
 #include <deque>
@@ -55,6 +56,7 @@ class MotionTest {
     bool closed = false;
     Eigen::Vector3f origin = Eigen::Vector3f::Zero();  ///< sensor origin of its first frame [m]
     std::vector<float> max_range;  ///< farthest return per angular bin seen from origin [m]; 0 = none
+    std::vector<float> min_range;  ///< nearest return per angular bin seen from origin [m]; inf = none
   };
   bool pointMoved(const Frame& frame, const Eigen::Vector3f& p) const;
 

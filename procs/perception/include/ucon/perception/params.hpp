@@ -48,7 +48,7 @@ struct SegmentationParams {
   double motion_distance_per_m = 0.01;  ///< ... plus this much per metre of range (scan sparsity grows with range) [m/m], >= 0
   double motion_ratio = 0.3;        ///< share of moved points that makes a cluster moving, (0, 1]
   double free_space_bin_deg = 1.0;  ///< angular bin of the free-space check [deg], (0.1, 10]
-  double free_space_margin = 0.3;   ///< a moved point also needs the reference to have seen this far past it along its ray [m]
+  double free_space_margin = 0.3;   ///< a moved point also needs the reference to have seen this far past it along its ray, and nothing this much nearer in its bin [m]
   double track_support_distance = 0.8;  ///< a cluster this close to a live track's prediction is dynamic [m]
   double vanish_max_gap = 0.5;      ///< a new point at most this far behind a reference surface that has since gone moved (an object moving away) [m]; 0 = off
   bool history_static_only = true;  ///< the motion test's reference history leaves out points the frame gave to tracks (someone walking in a tracked person's footsteps, or a mover retracing its path, is not matched against that trail)
@@ -136,7 +136,7 @@ inline kalman::KalmanParams trackFilterDefaults() {
 struct PerceptionParams {
   PaperParams paper;
   std::string association = "ucon";  ///< "ucon" (eq. 1 + Hungarian + re-association) or "fapp"
-  double pose_max_gap = 0.1;          ///< a frame farther than this from any pose has a stale pose [s], > 0
+  double pose_max_gap = 0.1;          ///< a frame farther than this from any pose has a stale pose; a point past the newest pose is extrapolated at most this far [s], > 0
   double frame_timeout = 0.2;         ///< no frame for this long (message time) -> outputs invalid [s]
   PreprocessParams preprocess;
   SegmentationParams segmentation;

@@ -1,6 +1,6 @@
 #pragma once
 /// @file pose_buffer.hpp
-/// Recent robot poses, interpolated at a LiDAR frame's time.
+/// Recent robot poses, interpolated at a LiDAR frame's time (or at each point's).
 
 #include <cstdint>
 #include <deque>
@@ -26,8 +26,11 @@ class PoseBuffer {
   AddResult add(const robot_pose_t& pose);
 
   /// Body-to-world transform at `utime` [us]: linear interpolation of position and slerp of
-  /// orientation between the two poses around it. Outside the buffered span the nearest pose
-  /// is used if it is within `max_gap_s` [s]; otherwise (or when empty) nullopt.
+  /// orientation between the two poses around it. After the newest pose, within `max_gap_s`
+  /// [s] of it, the newest pose is carried forward with its own velocity (world linear, body
+  /// angular; held where they are not finite): a LiDAR frame is published when its last point
+  /// is measured, usually before the pose of that instant. Before the oldest pose, within
+  /// `max_gap_s`, the oldest pose is held. Otherwise (or when empty) nullopt.
   std::optional<Eigen::Isometry3d> at(int64_t utime, double max_gap_s) const;
 
   bool empty() const { return poses_.empty(); }
@@ -38,6 +41,8 @@ class PoseBuffer {
     int64_t utime;
     Eigen::Vector3d p;
     Eigen::Quaterniond q;
+    Eigen::Vector3d v;  ///< world linear velocity [m/s] (zero when the message's is not finite)
+    Eigen::Vector3d w;  ///< body angular velocity [rad/s] (likewise)
   };
   std::deque<Stamped> poses_;
   int64_t window_us_;

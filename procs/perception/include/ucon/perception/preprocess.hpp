@@ -13,6 +13,7 @@
 #include "ucon/perception/angular_grid.hpp"
 #include "ucon/perception/params.hpp"
 #include "ucon/perception/point_index.hpp"
+#include "ucon/perception/pose_buffer.hpp"
 #include "ucon/point_cloud_t.hpp"
 
 namespace ucon {
@@ -42,12 +43,31 @@ class Preprocessor {
   /// "seen through" check of unseen tracks (tracks.free_bin_deg).
   Preprocessor(const PreprocessParams& params, const AngularGrid& fine, const AngularGrid& coarse);
 
-  /// Fills `frame` from a cloud in the base frame (or already in the world frame) with the
-  /// robot's pose at its time. Non-finite points are dropped; returns how many.
-  int64_t process(const point_cloud_t& cloud, const Eigen::Isometry3d& pose, Frame* frame);
+  /// What one frame's pre-processing counted.
+  struct Result {
+    int64_t non_finite = 0;        ///< points dropped for a non-finite coordinate
+    bool pose_extrapolated = false;  ///< the frame's last point is later than the newest pose
+  };
+
+  /// Places a pose's time offsets [us] are sampled at: a point takes the pose of the nearest
+  /// sample, so its placement is off by at most half of this times the speed (0.1 mm at 1 m/s).
+  static constexpr int64_t kPoseStepUs = 200;
+  /// Time offsets are clamped to the frame's duration_us and to this [us] (a 10 Hz frame is 100 ms).
+  static constexpr int64_t kMaxSpanUs = 500'000;
+
+  /// Fills `frame` from a cloud in the base frame (or already in the world frame). Each point
+  /// is placed in the world with the robot's pose at its own time (utime + t_offset_ns; a
+  /// cloud without offsets, with one pose): a driving or turning sensor's frame is not smeared
+  /// over the 20 ms it takes. `pose` is the pose at the frame's utime (frame.pose); `poses`
+  /// gives the pose within the frame, extrapolated past the newest pose up to `max_gap_s` [s]
+  /// (PoseBuffer::at; beyond it the last pose found is held). Non-finite points are dropped.
+  Result process(const point_cloud_t& cloud, const Eigen::Isometry3d& pose, const PoseBuffer& poses,
+                 double max_gap_s, Frame* frame);
 
  private:
   PreprocessParams params_;
+  std::vector<Eigen::Matrix3f> knot_rotation_;     ///< the pose every kPoseStepUs across the frame
+  std::vector<Eigen::Vector3f> knot_translation_;
   AngularGrid fine_, coarse_;
   std::deque<Points> recent_cropped_;  ///< cropped world points of the last frames (accumulation)
 };

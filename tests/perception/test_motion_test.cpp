@@ -1,0 +1,67 @@
+// The motion test's free-space evidence: new surface is motion only where every return of the
+// reference's bin lay beyond it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ucon/perception/angular_grid.hpp"
+#include "ucon/perception/motion_test.hpp"
+#include "ucon/perception/params.hpp"
+
+using namespace ucon::perception;
+
+namespace {
+
+const Eigen::Vector3f kOrigin(0.0f, 0.0f, 0.5f);
+
+// A point `r` [m] from the sensor in the middle of the 1-degree bin at azimuth and elevation
+// `deg` [deg] (bin edges lie on whole degrees).
+Eigen::Vector3f along(float r, float deg = 0.5f) {
+  const float a = deg * static_cast<float>(M_PI) / 180.0f;
+  return kOrigin + r * Eigen::Vector3f(std::cos(a) * std::cos(a), std::sin(a) * std::cos(a), std::sin(a));
+}
+
+// One second of parked frames (50 Hz) whose returns are `returns`, then a frame 1.2 s in with
+// the single point `p`: whether the test marks it moved.
+bool movedAgainst(const Points& returns, const Eigen::Vector3f& p) {
+  const SegmentationParams params;
+  const AngularGrid grid(params.free_space_bin_deg);
+  MotionTest test(params, grid);
+  for (int64_t t = 1'000'000; t <= 2'000'000; t += 20'000) {
+    Frame f;
+    f.utime = t;
+    f.sensor_origin = kOrigin;
+    f.returns = returns;
+    f.points = returns;
+    test.push(f, std::vector<char>(f.points.size(), 0));
+  }
+  Frame now;
+  now.utime = 2'200'000;
+  now.sensor_origin = kOrigin;
+  now.points = {p};
+  now.returns = {p};
+  now.nearest_fine.assign(static_cast<std::size_t>(grid.size()), INFINITY);
+  now.moved.assign(1, 0);
+  test.selectReference(now.utime);
+  EXPECT_TRUE(test.hasReference());
+  return test.markMoved(now, {0}, p.head<2>().cast<double>(), &now.moved) == 1;
+}
+
+}  // namespace
+
+TEST(MotionTest, GivenNewSurfaceWhereEveryReferenceRayPassedThenItMoved) {
+  // The reference saw a wall 8 m away in that direction; something now stands at 5 m.
+  EXPECT_TRUE(movedAgainst({along(8.0f), along(8.0f, 0.8f)}, along(5.0f)));
+}
+
+TEST(MotionTest, GivenNewSurfaceInABinHoldingAnEdgeThenItIsNoEvidenceOfMotion) {
+  // The same bin held a ray past the point (8 m) and one stopping well short of it (a pillar's edge
+  // at 3 m): from a driving sensor the new surface at 5 m is a face the edge hid, not motion.
+  EXPECT_FALSE(movedAgainst({along(8.0f), along(3.0f, 0.8f)}, along(5.0f)));
+}
+
+TEST(MotionTest, GivenNewSurfaceWhereTheReferenceSawSomethingAtTheSameRangeAndPastItThenItMoved) {
+  // Someone walked here in the reference (a return at 5.25 m) and the wall was seen past it
+  // (8 m): someone standing at 5 m now (a follower in the leader's footsteps) moved.
+  EXPECT_TRUE(movedAgainst({along(8.0f), along(5.25f, 0.8f)}, along(5.0f)));
+}
