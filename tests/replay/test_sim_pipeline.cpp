@@ -4,6 +4,7 @@
 // only, never on how fast a worker happens to be.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <random>
@@ -176,4 +177,150 @@ TEST(SimPipeline, GivenAFailingWorkerOrABadDelayThenTheRunThrowsAClearError) {
   EXPECT_THROW(run(c, {&ok}), std::invalid_argument);
   c.async_delay_us = {{3, 20000}};  // no such node
   EXPECT_THROW(run(c, {&ok}), std::invalid_argument);
+}
+
+// ---- Faults on the bus (RecorderConfig::faults, ucon-bench-nav --faults) ----
+
+namespace {
+
+// Utimes of the poses published and of the echoes, in bus order, and the run's summary.
+struct FaultRun {
+  std::vector<Event> events;
+  rp::RecordSummary summary;
+  std::vector<int64_t> poses() const {
+    std::vector<int64_t> v;
+    for (const auto& e : events)
+      if (e.channel == ucon::channels::kRobotPose) v.push_back(e.utime);
+    return v;
+  }
+  std::vector<int64_t> echoes(const std::string& ch) const {
+    std::vector<int64_t> v;
+    for (const auto& e : events)
+      if (e.channel == ch) v.push_back(e.utime);
+    return v;
+  }
+};
+
+FaultRun runFaults(const rp::RecorderConfig& c, const std::vector<rp::NodeAdapter*>& nodes) {
+  FaultRun r;
+  r.summary = rp::recordSimulatedRun(c, nodes, [&](const std::string& ch, int64_t utime, const std::vector<uint8_t>&) {
+    if (ch == ucon::channels::kRobotPose || ch == "ECHO_A" || ch == "ECHO_B") r.events.push_back({ch, utime});
+  });
+  return r;
+}
+
+}  // namespace
+
+TEST(SimFaults, GivenLossThenTheDropsFollowTheSeedAndTheLogKeepsWhatWasPublished) {
+  auto c = baseConfig(1.0);
+  c.faults.drop = 0.3;
+  c.faults.seed = 7;
+  EchoNode a(ucon::channels::kRobotPose, "ECHO_A");
+  const FaultRun r = runFaults(c, {&a});
+  const auto poses = r.poses(), echoes = r.echoes("ECHO_A");
+  ASSERT_GT(poses.size(), 90u);  // the log has every pose: a loss is the consumer's
+  EXPECT_EQ(r.summary.faults_dropped, int64_t(poses.size() - echoes.size()));
+  const double kept = double(echoes.size()) / double(poses.size());
+  EXPECT_GT(kept, 0.55);
+  EXPECT_LT(kept, 0.85);
+  // The same seed drops the same messages; another seed others.
+  EchoNode a2(ucon::channels::kRobotPose, "ECHO_A");
+  EXPECT_EQ(runFaults(c, {&a2}).echoes("ECHO_A"), echoes);
+  c.faults.seed = 8;
+  EchoNode a3(ucon::channels::kRobotPose, "ECHO_A");
+  EXPECT_NE(runFaults(c, {&a3}).echoes("ECHO_A"), echoes);
+  // Everything lost.
+  c.faults.drop = 1.0;
+  EchoNode a4(ucon::channels::kRobotPose, "ECHO_A");
+  EXPECT_TRUE(runFaults(c, {&a4}).echoes("ECHO_A").empty());
+}
+
+TEST(SimFaults, GivenDelayAndJitterThenDeliveriesAreLateAndMayOvertakeEachOther) {
+  auto c = baseConfig(0.5);
+  c.faults.delay_us = 5000;  // half a pose period
+  EchoNode a(ucon::channels::kRobotPose, "ECHO_A");
+  const FaultRun r = runFaults(c, {&a});
+  // Each echo goes out when its pose reaches the node, 5 ms after the pose: after that pose
+  // and before the next one.
+  int64_t last_pose = -1;
+  int echoes = 0;
+  for (const auto& e : r.events) {
+    if (e.channel == ucon::channels::kRobotPose) {
+      last_pose = e.utime;
+    } else {
+      EXPECT_EQ(e.utime, last_pose);
+      ++echoes;
+    }
+  }
+  EXPECT_GT(echoes, 40);
+  EXPECT_EQ(r.summary.faults_delayed, int64_t(r.poses().size()));
+  // 30 ms of jitter on 10 ms poses: some arrive after a later one.
+  c.faults.delay_us = 0;
+  c.faults.jitter_us = 30000;
+  EchoNode b(ucon::channels::kRobotPose, "ECHO_A");
+  const auto jittered = runFaults(c, {&b}).echoes("ECHO_A");
+  ASSERT_GT(jittered.size(), 30u);
+  EXPECT_FALSE(std::is_sorted(jittered.begin(), jittered.end()));
+}
+
+TEST(SimFaults, GivenAChannelPatternThenOnlyThoseChannelsAreAffected) {
+  auto c = baseConfig(0.5);
+  c.faults.drop = 1.0;
+  c.faults.channels = "ECHO_.*";
+  EchoNode a(ucon::channels::kRobotPose, "ECHO_A"), b("ECHO_A", "ECHO_B");
+  const FaultRun r = runFaults(c, {&a, &b});
+  EXPECT_EQ(r.echoes("ECHO_A").size(), r.poses().size());  // poses reach A
+  EXPECT_TRUE(r.echoes("ECHO_B").empty());                  // A's echoes never reach B
+}
+
+TEST(SimFaults, GivenAKilledNodeThenItIsSilentUntilItsRestartAndTheNewOneTakesOver) {
+  for (const bool async : {false, true}) {
+    auto c = baseConfig(0.6);
+    if (async) c.async_delay_us = {{0, 20000}};
+    c.faults.kills = {{0, 200000, 100000}};  // node 0 dies at 0.2 s, respawns 0.1 s later
+    EchoNode first(ucon::channels::kRobotPose, "ECHO_A");
+    EchoNode second(ucon::channels::kRobotPose, "ECHO_A");
+    int restarts = 0;
+    c.faults.restart = [&](std::size_t i) -> rp::NodeAdapter* {
+      EXPECT_EQ(i, 0u);
+      ++restarts;
+      return &second;
+    };
+    const FaultRun r = runFaults(c, {&first});
+    const auto poses = r.poses();
+    ASSERT_FALSE(poses.empty());
+    const int64_t t0 = poses.front() - 1000;  // the loop's start: the first pose is 1 ms in
+    std::set<int64_t> echoed;
+    for (int64_t u : r.echoes("ECHO_A")) echoed.insert(u);
+    const int64_t delay = async ? 20000 : 0;
+    for (int64_t p : poses) {
+      const int64_t t = p - t0;
+      if (p + delay > poses.back()) continue;  // not due before the end
+      if (t + delay < 200000 && t < 200000) {
+        EXPECT_EQ(echoed.count(p), 1u) << async << " before the kill " << t;
+      } else if (t >= 200000 && t < 300000) {
+        EXPECT_EQ(echoed.count(p), 0u) << async << " killed " << t;
+      } else if (t >= 300000) {
+        EXPECT_EQ(echoed.count(p), 1u) << async << " after the restart " << t;
+      }
+    }
+    EXPECT_EQ(restarts, 1);
+    EXPECT_EQ(r.summary.faults_restarts, 1);
+    EXPECT_GT(r.summary.faults_killed_deliveries, 5);
+  }
+}
+
+TEST(SimFaults, GivenBadFaultsThenTheRunThrowsAClearError) {
+  EchoNode a(ucon::channels::kRobotPose, "ECHO_A");
+  auto c = baseConfig(0.2);
+  c.faults.drop = 1.5;
+  EXPECT_THROW(runFaults(c, {&a}), std::invalid_argument);
+  c.faults.drop = 0.0;
+  c.faults.channels = "ECHO_(";
+  EXPECT_THROW(runFaults(c, {&a}), std::invalid_argument);
+  c.faults.channels.clear();
+  c.faults.kills = {{0, 100000, 50000}};  // a restart without the function that makes the node
+  EXPECT_THROW(runFaults(c, {&a}), std::invalid_argument);
+  c.faults.kills = {{4, 100000, -1}};  // no such node
+  EXPECT_THROW(runFaults(c, {&a}), std::invalid_argument);
 }

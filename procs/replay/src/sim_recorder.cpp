@@ -6,6 +6,7 @@
 #include <deque>
 #include <limits>
 #include <mutex>
+#include <regex>
 #include <stdexcept>
 #include <thread>
 
@@ -186,39 +187,70 @@ class AsyncNode {
   std::thread worker_;
 };
 
+void validateFaults(const BusFaults& f, std::size_t n_nodes) {
+  if (!(f.drop >= 0.0 && f.drop <= 1.0)) throw std::invalid_argument("faults: drop must be in [0, 1]");
+  if (f.delay_us < 0 || f.jitter_us < 0) throw std::invalid_argument("faults: delay and jitter must be >= 0");
+  try {
+    if (!f.channels.empty()) std::regex(f.channels, std::regex::ECMAScript);
+  } catch (const std::regex_error& e) {
+    throw std::invalid_argument("faults: channel pattern '" + f.channels + "' is not a regular expression: " +
+                                e.what());
+  }
+  for (const auto& k : f.kills) {
+    if (k.node >= n_nodes) throw std::invalid_argument("faults: kill of node " + std::to_string(k.node) + ": no such node");
+    if (k.at_us < 0) throw std::invalid_argument("faults: kill time must be >= 0");
+    if (k.restart_after_us >= 0 && !f.restart) throw std::invalid_argument("faults: a restart needs the restart function");
+  }
+}
+
+// splitmix64: the fault decisions' hash (BusFaults).
+uint64_t mix(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
 class Bus {
  public:
   Bus(const std::vector<NodeAdapter*>& nodes, const std::map<std::size_t, int64_t>& async_delay_us,
-      std::function<void(bool)> on_wait, const EventSink& sink, simulator::Simulator& sim, RecordSummary& summary)
-      : nodes_(nodes), on_wait_(std::move(on_wait)), sink_(sink), sim_(sim), summary_(summary), async_(nodes.size()) {
+      std::function<void(bool)> on_wait, const BusFaults& faults, const EventSink& sink, simulator::Simulator& sim,
+      RecordSummary& summary)
+      : nodes_(nodes),
+        delays_(async_delay_us),
+        on_wait_(std::move(on_wait)),
+        faults_(faults),
+        sink_(sink),
+        sim_(sim),
+        summary_(summary),
+        async_(nodes.size()),
+        killed_(nodes.size(), false),
+        kill_state_(faults.kills.size(), 0) {
     // Input channels are read once, here: no call into a node from this thread while a
     // worker may be inside it, and no channel list built per message.
     for (NodeAdapter* n : nodes) inputs_.push_back(n->inputChannels());
     for (const auto& [i, d] : async_delay_us) async_[i] = std::make_unique<AsyncNode>(nodes[i], d);
+    if (!faults_.channels.empty()) channel_re_ = std::regex(faults_.channels, std::regex::ECMAScript);
   }
 
-  // Bus time of what is published now (the step being run) [us].
-  void setTime(int64_t t) { now_ = t; }
+  // Bus time of what is published now (the step being run) [us]; the first one is the start.
+  void setTime(int64_t t) {
+    if (!started_) t0_ = t, started_ = true;
+    now_ = t;
+  }
 
   // Publishes one message: to the log, to every consumer (their outputs depth first; an async
-  // node's are queued for later), and wheel commands to the simulated base.
+  // node's are queued for later), and wheel commands to the simulated base. With faults, each
+  // delivery may be lost or late.
   void publish(const std::string& channel, int64_t utime, const std::vector<uint8_t>& data) {
     sink_(channel, utime, data);
     ++summary_.messages[channel];
-    if (channel == channels::kBaseWheelCmd) {
-      wheel_cmd_t c;
-      if (decodeExact(data.data(), data.size(), &c) && sim_.onWheelCmd(c)) ++summary_.wheel_cmds_applied;
-    }
+    const uint64_t index = published_++;
+    const bool affected = faults_.any() && affects(channel);
+    if (channel == channels::kBaseWheelCmd) offer(kBase, index, affected, channel, utime, data);
     for (std::size_t k = 0; k < nodes_.size(); ++k) {
-      NodeAdapter* n = nodes_[k];
       if (std::find(inputs_[k].begin(), inputs_[k].end(), channel) == inputs_[k].end()) continue;
-      if (async_[k]) {
-        async_[k]->push(now_, channel, data);
-        continue;
-      }
-      std::vector<OutputMessage> outs;
-      n->feed(channel, data.data(), data.size(), &outs);
-      for (const auto& o : outs) publish(o.channel, o.utime, o.data);
+      offer(k, index, affected, channel, utime, data);
     }
   }
   template <class Msg>
@@ -226,13 +258,30 @@ class Bus {
     publish(channel, m.utime, encode(m));
   }
 
-  // Publishes the async nodes' outputs due at or before the current bus time: by due time,
-  // then node order, then production order (a stable sort of the node-by-node list).
+  // Runs what is due at or before the current bus time: kills and restarts, late deliveries
+  // (by due time, then bus order), then the async nodes' outputs (by due time, then node
+  // order, then production order: a stable sort of the node-by-node list).
   void deliverDue() {
+    applyKills();
+    while (!late_.empty() && late_.front().due <= now_) {
+      std::pop_heap(late_.begin(), late_.end(), Late::later);
+      Late l = std::move(late_.back());
+      late_.pop_back();
+      if (l.node != kBase && killed_[l.node]) {
+        ++summary_.faults_killed_deliveries;
+        continue;
+      }
+      deliver(l.node, l.channel, l.utime, l.data);
+    }
     due_.clear();
     for (std::size_t k = 0; k < async_.size(); ++k) {
       if (!async_[k]) continue;
       async_[k]->takeDue(now_, &scratch_, on_wait_);
+      if (killed_[k]) {  // what a killed process had in flight never goes out
+        summary_.faults_killed_outputs += int64_t(scratch_.size());
+        scratch_.clear();
+        continue;
+      }
       for (auto& d : scratch_) due_.push_back(std::move(d));
       scratch_.clear();
     }
@@ -243,25 +292,123 @@ class Bus {
   }
 
   // Stops and joins the workers (each handles its queued inputs first, their outputs not
-  // delivered: see AsyncNode::stop); returns their CPU seconds.
+  // delivered: see AsyncNode::stop); returns their CPU seconds, those of restarted ones included.
   double stopWorkers() {
-    double cpu = 0.0;
+    double cpu = retired_cpu_s_;
     for (auto& a : async_)
       if (a) cpu += a->stop();
     return cpu;
   }
 
  private:
-  const std::vector<NodeAdapter*>& nodes_;
+  static constexpr std::size_t kBase = std::numeric_limits<std::size_t>::max();  // the simulated base
+
+  // A late delivery; a heap ordered by due time, then bus order.
+  struct Late {
+    int64_t due;
+    uint64_t order;
+    std::size_t node;
+    std::string channel;
+    int64_t utime;
+    std::vector<uint8_t> data;
+    static bool later(const Late& a, const Late& b) { return a.due != b.due ? a.due > b.due : a.order > b.order; }
+  };
+
+  bool affects(const std::string& channel) {
+    // The simulator's ground truth is the harness's measurement, not a message of the robot.
+    if (channel == channels::kSimGroundTruth || channel == channels::kLogMetadata) return false;
+    if (faults_.channels.empty()) return true;
+    const auto it = affects_.find(channel);
+    if (it != affects_.end()) return it->second;
+    return affects_[channel] = std::regex_match(channel, channel_re_);
+  }
+
+  // One delivery of message `index` to consumer `k`: lost, late or now.
+  void offer(std::size_t k, uint64_t index, bool affected, const std::string& channel, int64_t utime,
+             const std::vector<uint8_t>& data) {
+    if (k != kBase && killed_[k]) {
+      ++summary_.faults_killed_deliveries;
+      return;
+    }
+    if (affected) {
+      const uint64_t h = mix(mix(mix(faults_.seed) ^ index) ^ uint64_t(k));
+      if (faults_.drop > 0.0 && double(h >> 11) * 0x1.0p-53 < faults_.drop) {
+        ++summary_.faults_dropped;
+        return;
+      }
+      int64_t late = faults_.delay_us;
+      if (faults_.jitter_us > 0) late += int64_t(mix(h) % uint64_t(faults_.jitter_us + 1));
+      if (late > 0) {
+        late_.push_back({now_ + late, late_order_++, k, channel, utime, data});
+        std::push_heap(late_.begin(), late_.end(), Late::later);
+        ++summary_.faults_delayed;
+        return;
+      }
+    }
+    deliver(k, channel, utime, data);
+  }
+
+  void deliver(std::size_t k, const std::string& channel, int64_t utime, const std::vector<uint8_t>& data) {
+    (void)utime;
+    if (k == kBase) {
+      wheel_cmd_t c;
+      if (decodeExact(data.data(), data.size(), &c) && sim_.onWheelCmd(c)) ++summary_.wheel_cmds_applied;
+      return;
+    }
+    if (async_[k]) {
+      async_[k]->push(now_, channel, data);
+      return;
+    }
+    std::vector<OutputMessage> outs;
+    nodes_[k]->feed(channel, data.data(), data.size(), &outs);
+    for (const auto& o : outs) publish(o.channel, o.utime, o.data);
+  }
+
+  // kill_state_: 0 not yet killed, 1 killed, 2 restarted (or killed for good and done).
+  void applyKills() {
+    for (std::size_t i = 0; i < faults_.kills.size(); ++i) {
+      const BusFaults::Kill& kl = faults_.kills[i];
+      const std::size_t k = kl.node;
+      if (kill_state_[i] == 0 && now_ >= t0_ + kl.at_us) {
+        killed_[k] = true;
+        kill_state_[i] = 1;
+      }
+      if (kill_state_[i] == 1 && kl.restart_after_us >= 0 && now_ >= t0_ + kl.at_us + kl.restart_after_us) {
+        // The old process is gone: its worker ends (nothing of it is published) and a new
+        // node with an empty state takes the inputs from now on.
+        if (async_[k]) retired_cpu_s_ += async_[k]->stop();
+        NodeAdapter* fresh = faults_.restart(k);
+        if (fresh == nullptr) throw std::runtime_error("restart of node " + nodes_[k]->name() + " failed");
+        nodes_[k] = fresh;
+        inputs_[k] = fresh->inputChannels();
+        if (async_[k]) async_[k] = std::make_unique<AsyncNode>(fresh, delays_.at(k));
+        killed_[k] = false;
+        kill_state_[i] = 2;
+        ++summary_.faults_restarts;
+      }
+    }
+  }
+
+  std::vector<NodeAdapter*> nodes_;               // restarts replace entries
   std::vector<std::vector<std::string>> inputs_;  // per node: its input channels
+  std::map<std::size_t, int64_t> delays_;
   std::function<void(bool)> on_wait_;
+  const BusFaults& faults_;
+  std::regex channel_re_;
+  std::map<std::string, bool> affects_;
   const EventSink& sink_;
   simulator::Simulator& sim_;
   RecordSummary& summary_;
   std::vector<std::unique_ptr<AsyncNode>> async_;
   std::vector<AsyncNode::Due> scratch_;
   std::vector<AsyncNode::Due> due_;
-  int64_t now_ = 0;
+  std::vector<Late> late_;
+  std::vector<bool> killed_;
+  std::vector<int> kill_state_;
+  uint64_t published_ = 0, late_order_ = 0;
+  double retired_cpu_s_ = 0.0;
+  int64_t now_ = 0, t0_ = 0;
+  bool started_ = false;
 };
 
 }  // namespace
@@ -278,7 +425,8 @@ RecordSummary recordSimulatedRun(const RecorderConfig& config, const std::vector
     if (i >= nodes.size()) throw std::invalid_argument("async_delay_us: no node " + std::to_string(i));
     if (d < config.step_us) throw std::invalid_argument("async_delay_us: delay below step_us for " + nodes[i]->name());
   }
-  Bus bus(nodes, config.async_delay_us, config.on_wait, sink, sim, summary);
+  validateFaults(config.faults, nodes.size());
+  Bus bus(nodes, config.async_delay_us, config.on_wait, config.faults, sink, sim, summary);
 
   const int64_t t0 = sim.utime();
   bus.setTime(t0);

@@ -114,6 +114,11 @@ int main(int argc, char** argv) {
                "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
   app.add_option("--pose", setup.pose, "robot pose: ground_truth (the simulator's) | odometry (LiDAR-inertial)")
       ->check(CLI::IsMember({"ground_truth", "odometry"}));
+  std::string faults;
+  app.add_option("--faults", faults,
+                 "inject faults on the bus and run every seed with and without them: "
+                 "drop=P,delay=MS,jitter=MS[,channel=REGEX] and/or kill=NODE@T[,restart=S] (NODE: perception, "
+                 "planner, base_controller, odometry; T, S in seconds)");
   app.add_flag("--serial", pipeline.serial,
                "run every node on the loop's thread with a zero-latency bus (default: perception and planner "
                "on threads of their own, outputs delivered after a fixed latency)");
@@ -126,6 +131,10 @@ int main(int argc, char** argv) {
   }
 
   std::string err;
+  if (!faults.empty() && !parseFaults(faults, &setup.faults, &err)) {
+    std::fprintf(stderr, "ucon-bench-nav: --faults: %s\n", err.c_str());
+    return 2;
+  }
   if (!loadParamsFile(setup.config_dir + "/simulator.yaml", &setup.sim, nullptr, &err) ||
       !loadParamsFile(setup.config_dir + "/lidar_driver.yaml", &setup.driver, nullptr, &err) ||
       !loadParamsFile(setup.config_dir + "/mission.yaml", &setup.mission, nullptr, &err)) {
@@ -173,26 +182,34 @@ int main(int argc, char** argv) {
   struct Task {
     int n_dynamic;
     uint64_t seed;
+    bool faulty;  ///< with --faults: the run with the faults (the other one is its fault-free pair)
   };
   std::vector<Task> tasks;
+  Setup fault_free = setup;
+  fault_free.faults = FaultSpec{};
   for (int s = 0; s < seeds; ++s)
-    for (int d : density_list) tasks.push_back({d, seed_base + uint64_t(s)});
+    for (int d : density_list) {
+      tasks.push_back({d, seed_base + uint64_t(s), false});
+      if (setup.faults.any()) tasks.push_back({d, seed_base + uint64_t(s), true});
+    }
   std::vector<RunResult> results(tasks.size());
   std::atomic<std::size_t> next{0};
   std::mutex print_mutex;
   const auto bench_t0 = Clock::now();
   auto worker = [&] {
     for (std::size_t i = next++; i < tasks.size(); i = next++) {
-      results[i] = runOne(setup, tasks[i].n_dynamic, tasks[i].seed, timeout_s, oracle, pipeline);
+      results[i] = runOne(tasks[i].faulty ? setup : fault_free, tasks[i].n_dynamic, tasks[i].seed, timeout_s, oracle,
+                          pipeline);
       const auto& r = results[i];
       if (verbose || !r.ok) {
         std::lock_guard<std::mutex> lock(print_mutex);
         if (!r.ok) {
-          std::printf("N_d=%3d seed=%4llu ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed, r.error.c_str());
+          std::printf("N_d=%3d seed=%4llu%s ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed,
+                      tasks[i].faulty ? " faults" : "", r.error.c_str());
         } else {
-          std::printf("N_d=%3d seed=%4llu %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
+          std::printf("N_d=%3d seed=%4llu%s %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
                       "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s%s\n",
-                      r.n_dynamic, (unsigned long long)r.seed,
+                      r.n_dynamic, (unsigned long long)r.seed, tasks[i].faulty ? " faults" : "",
                       r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
                       r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
                       (long long)(r.messages.count(ucon::channels::kLidarPoints) ? r.messages.at(ucon::channels::kLidarPoints) : 0),
@@ -216,8 +233,9 @@ int main(int argc, char** argv) {
   for (int d : density_list) {
     Row row;
     row.n_dynamic = d;
-    for (const auto& r : results) {
-      if (r.n_dynamic != d) continue;
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      const auto& r = results[i];
+      if (r.n_dynamic != d || tasks[i].faulty) continue;
       std::string why;
       if (r.pipelineBroken(&why)) {
         std::fprintf(stderr, "ucon-bench-nav: pipeline broken at bench:%d:%llu: %s\n", d,
@@ -306,6 +324,53 @@ int main(int argc, char** argv) {
     std::printf("\n");
   }
 
+  // --faults: the faulty run of each seed against its fault-free pair.
+  struct FaultRow {
+    int n_dynamic = 0, runs = 0, successes = 0, hit_mover = 0, hit_static = 0, timeouts = 0;
+    int free_successes = 0, lost = 0, won = 0;  ///< lost: fault-free succeeded, faulty did not; won: the reverse
+    std::vector<double> ttg, dttg;              ///< faulty time to goal; faulty minus fault-free, both succeeded
+    int64_t dropped = 0, delayed = 0, killed = 0, restarts = 0;
+  };
+  std::vector<FaultRow> fault_rows;
+  if (setup.faults.any()) {
+    for (int d : density_list) {
+      FaultRow f;
+      f.n_dynamic = d;
+      for (std::size_t i = 0; i + 1 < results.size(); ++i) {
+        if (tasks[i].faulty || !tasks[i + 1].faulty || tasks[i].n_dynamic != d) continue;
+        const RunResult &a = results[i], &b = results[i + 1];
+        if (!a.ok || !b.ok) continue;
+        ++f.runs;
+        f.successes += b.success;
+        f.free_successes += a.success;
+        f.timeouts += b.timeout;
+        if (b.collision) (b.hit_mover ? f.hit_mover : f.hit_static) += 1;
+        f.lost += a.success && !b.success;
+        f.won += !a.success && b.success;
+        if (b.success) f.ttg.push_back(b.time_to_goal_s);
+        if (a.success && b.success) f.dttg.push_back(b.time_to_goal_s - a.time_to_goal_s);
+        f.dropped += b.faults_dropped;
+        f.delayed += b.faults_delayed;
+        f.killed += b.faults_killed;
+        f.restarts += b.faults_restarts;
+      }
+      fault_rows.push_back(f);
+    }
+    std::printf("\nWith faults '%s' (the same seeds; lost = succeeded without the faults, not with them; won = the "
+                "reverse; dt_goal = time to goal with minus without, median over seeds that succeeded both ways)\n",
+                setup.faults.text.c_str());
+    std::printf("%5s %5s | %8s %8s | %5s %5s | %9s %6s | %9s %10s | per run: %8s %8s %7s %8s\n", "N_d", "runs",
+                "succ[%]", "free[%]", "lost", "won", "coll m/s", "tmout", "t_goal_md", "dt_goal_md", "dropped", "late",
+                "killed", "restarts");
+    for (const auto& f : fault_rows) {
+      const double n = f.runs ? double(f.runs) : NAN;
+      std::printf("%5d %5d | %8.1f %8.1f | %5d %5d | %3d / %3d %6d | %9.1f %10.2f | per run: %8.0f %8.0f %7.0f %8.1f\n",
+                  f.n_dynamic, f.runs, 100.0 * f.successes / n, 100.0 * f.free_successes / n, f.lost, f.won,
+                  f.hit_mover, f.hit_static, f.timeouts, percentile(f.ttg, 0.5), percentile(f.dttg, 0.5),
+                  double(f.dropped) / n, double(f.delayed) / n, double(f.killed) / n, double(f.restarts) / n);
+    }
+  }
+
   if (!json_path.empty()) {
     std::ofstream js(json_path);
     js << "{\"results\": [";
@@ -325,7 +390,29 @@ int main(int argc, char** argv) {
       }
       js << "}}";
     }
-    js << "\n]}\n";
+    js << "\n]";
+    if (setup.faults.any()) {
+      std::string spec;  // JSON string body
+      for (const char c : setup.faults.text) {
+        if (c == '"' || c == '\\') spec += '\\';
+        if (static_cast<unsigned char>(c) >= 0x20) spec += c;
+      }
+      js << ",\n \"faults\": {\"spec\": \"" << spec << "\", \"results\": [";
+      for (std::size_t i = 0; i < fault_rows.size(); ++i) {
+        const auto& f = fault_rows[i];
+        const double n = f.runs ? double(f.runs) : NAN;
+        js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << f.n_dynamic << ", \"runs\": " << f.runs
+           << ", \"success_rate\": " << num(f.successes / n) << ", \"success_rate_fault_free\": "
+           << num(f.free_successes / n) << ", \"lost\": " << f.lost << ", \"won\": " << f.won
+           << ", \"collisions_mover\": " << f.hit_mover << ", \"collisions_static\": " << f.hit_static
+           << ", \"timeouts\": " << f.timeouts << ", \"time_to_goal_s_median\": " << num(percentile(f.ttg, 0.5))
+           << ", \"time_to_goal_delta_s_median\": " << num(percentile(f.dttg, 0.5))
+           << ", \"per_run\": {\"dropped\": " << num(f.dropped / n) << ", \"late\": " << num(f.delayed / n)
+           << ", \"killed\": " << num(f.killed / n) << ", \"restarts\": " << num(f.restarts / n) << "}}";
+      }
+      js << "\n ]}";
+    }
+    js << "\n}\n";
     js.close();
     if (!js) {
       std::fprintf(stderr, "ucon-bench-nav: cannot write %s\n", json_path.c_str());

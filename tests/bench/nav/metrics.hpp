@@ -111,6 +111,9 @@ struct RunResult {
   double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
   double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
   StageTimes stages[kNumStages];
+  /// Faults injected (--faults): deliveries lost, late, lost to a killed node (inputs and outputs
+  /// in flight), restarts.
+  int64_t faults_dropped = 0, faults_delayed = 0, faults_killed = 0, faults_restarts = 0;
   /// True (and why) when the run shows that the pipeline itself is broken.
   bool pipelineBroken(std::string* why) const;
 };

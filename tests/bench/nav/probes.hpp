@@ -51,6 +51,8 @@ class TimedAdapter : public rp::NodeAdapter {
   double helperCpuSeconds() const override { return inner_->helperCpuSeconds(); }
   rp::FeedResult feed(const std::string& channel, const uint8_t* data, std::size_t size,
                       std::vector<rp::OutputMessage>* out) override;
+  /// The node timed from now on (a restarted node: --faults kill=...,restart=...).
+  void setInner(rp::NodeAdapter* inner) { inner_ = inner; }
 
  private:
   rp::NodeAdapter* inner_;

@@ -2,6 +2,7 @@
 
 #include "odometry_in_loop.hpp"
 
+#include <exception>
 #include <memory>
 #include <vector>
 
@@ -31,7 +32,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   }
 
   std::vector<std::unique_ptr<rp::NodeAdapter>> owned;
-  std::vector<std::unique_ptr<rp::NodeAdapter>> timed;
+  std::vector<std::unique_ptr<TimedAdapter>> timed;
   const struct {
     const char* node;
     int stage;
@@ -75,6 +76,35 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     if (!(odometry = ucon::bench::odometryInLoop(setup.config_dir, *sc, &cfg.sim, &res.error))) return res;
     loop.push_back(odometry.get());
   }
+  if (setup.faults.any()) {
+    // A restarted node is a new adapter from the same config behind the same timer (and probe).
+    cfg.faults.restart = [&](std::size_t k) -> rp::NodeAdapter* {
+      const std::string name = loop[k]->name();
+      std::string why;
+      if (name == "odometry") {
+        simulator::SimulatorParams sim = setup.sim;
+        auto a = ucon::bench::odometryInLoop(setup.config_dir, *sc, &sim, &why);
+        if (!a) return nullptr;
+        owned.push_back(std::move(a));
+        return owned.back().get();
+      }
+      for (std::size_t i = 0; i < timed.size(); ++i) {
+        if (kNodes[i].node != name) continue;
+        auto a = rp::makeAdapter(name, setup.node_yaml.at(name), setup.config_dir + "/" + name + ".yaml", &why);
+        if (!a) return nullptr;
+        timed[i]->setInner(a.get());
+        owned.push_back(std::move(a));
+        return loop[k];
+      }
+      return nullptr;
+    };
+    const auto index = [&](const std::string& name) {
+      for (std::size_t k = 1; k < loop.size(); ++k)  // loop[0] is the mission: the operator, not killed
+        if (loop[k]->name() == name) return int(k);
+      return -1;
+    };
+    if (!toBusFaults(setup.faults, seed, index, &cfg.faults, &res.error)) return res;
+  }
   cfg.duration_s = timeout_s + 0.1;  // the mission ends the run at timeout_s of pose time
   cfg.send_goal = false;             // the mission sends the goals
   cfg.scripted_plan = false;         // the planner plans
@@ -106,8 +136,13 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
 
   const auto t0 = Clock::now();
   const double cpu0 = threadCpuSeconds();
-  const rp::RecordSummary s =
-      rp::recordSimulatedRun(cfg, loop, [](const std::string&, int64_t, const std::vector<uint8_t>&) {});
+  rp::RecordSummary s;
+  try {
+    s = rp::recordSimulatedRun(cfg, loop, [](const std::string&, int64_t, const std::vector<uint8_t>&) {});
+  } catch (const std::exception& e) {  // a node that threw, a restart that failed
+    res.error = spec + ": " + e.what();
+    return res;
+  }
   res.wall_s = msSince(t0) * 1e-3;
   res.recall = mission.tracking().recall();
   res.velocity_error = mission.tracking().velocityError();
@@ -123,6 +158,10 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   res.plan_tally = planTally(stage_nodes[1]->counters());
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
   res.ok = true;
+  res.faults_dropped = s.faults_dropped;
+  res.faults_delayed = s.faults_delayed;
+  res.faults_killed = s.faults_killed_deliveries + s.faults_killed_outputs;
+  res.faults_restarts = s.faults_restarts;
   res.sim_s = s.sim_time_s;
   res.messages = s.messages;
   res.wheel_cmds_applied = s.wheel_cmds_applied;

@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "faults.hpp"
 #include "metrics.hpp"
 #include "probes.hpp"
 #include "ucon/lidar_driver/driver_params.hpp"
@@ -24,6 +25,7 @@ struct Setup {
   std::map<std::string, std::string> node_yaml;  // node name -> YAML text
   std::string config_dir, scenario_dir;
   std::string pose = "ground_truth";  ///< --pose: ground_truth | odometry (odometry_in_loop.hpp)
+  FaultSpec faults;                   ///< --faults (faults.hpp); none by default
 };
 
 /// How the nodes share the machine: pipelined (perception and planner on threads of their

@@ -25,6 +25,37 @@
 namespace ucon {
 namespace replay {
 
+/// Faults on the bus (ucon-bench-nav --faults): deliveries of messages to the nodes and to the
+/// simulated base lost or late, and nodes killed and restarted from an empty state, as a
+/// robot's network and process supervisor do to them. A delivery is one message to one
+/// consumer; a late one is handed over at the first step at or after its due time, so late
+/// messages can overtake each other (UDP does that). Deterministic: every decision is a hash of
+/// `seed`, the message's place in the bus order and the consumer, never a clock.
+struct BusFaults {
+  double drop = 0.0;          ///< probability that one delivery is lost, [0, 1]
+  int64_t delay_us = 0;       ///< every affected delivery is late by this [us], >= 0
+  int64_t jitter_us = 0;      ///< ... plus a uniform draw from [0, jitter_us] [us], >= 0
+  /// Channels whose deliveries are affected (ECMAScript regular expression, whole name);
+  /// empty: every channel. SIM_GROUND_TRUTH and LOG_METADATA (the harness's, not the robot's)
+  /// never are.
+  std::string channels;
+  uint64_t seed = 0;
+  /// A node killed at `at_us` after the start of the run: nothing is delivered to it and
+  /// nothing it had in flight is published; restarted `restart_after_us` later (< 0: never) by
+  /// `restart`, as a respawn would.
+  struct Kill {
+    std::size_t node = 0;  ///< index into the run's nodes
+    int64_t at_us = 0;
+    int64_t restart_after_us = -1;
+  };
+  std::vector<Kill> kills;
+  /// Makes node i afresh (empty state) and returns the adapter the bus feeds from then on
+  /// (owned by the caller; may be the same wrapper around a new node). Required for a restart.
+  std::function<NodeAdapter*(std::size_t node)> restart;
+
+  bool any() const { return drop > 0.0 || delay_us > 0 || jitter_us > 0 || !kills.empty(); }
+};
+
 /// What to record.
 struct RecorderConfig {
   simulator::SimulatorParams sim;
@@ -64,6 +95,8 @@ struct RecorderConfig {
   std::map<std::size_t, int64_t> async_delay_us;
   /// Called with true just before the loop waits for a worker that is behind, false after.
   std::function<void(bool waiting)> on_wait;
+  /// Faults injected on the bus (none by default). Like pipelining, meant for harnesses.
+  BusFaults faults;
 };
 
 /// Receives every message in publication order: channel, utime [us] (used as the event
@@ -78,6 +111,10 @@ struct RecordSummary {
   double sim_time_s = 0.0;                  ///< simulated seconds run (< duration_s if stopped)
   int64_t collision_episodes = 0;           ///< simulator's count
   double worker_cpu_s = 0.0;                ///< CPU seconds of the async nodes' worker threads
+  /// Faults injected (RecorderConfig::faults): deliveries lost, deliveries late, deliveries
+  /// and outputs lost to a killed node, restarts.
+  int64_t faults_dropped = 0, faults_delayed = 0, faults_killed_deliveries = 0, faults_killed_outputs = 0,
+          faults_restarts = 0;
 };
 
 /// Runs the closed loop for config.duration_s. `nodes` are fed in the given order; their
