@@ -14,26 +14,6 @@
 namespace ucon {
 namespace replay {
 
-namespace {
-
-template <class P>
-bool loadText(const std::string& path, std::string* text, P* params, std::string* err) {
-  auto t = runtime::readTextFile(path, err);
-  if (!t) return false;
-  std::vector<ConfigError> errors;
-  auto p = loadParams<P>(*t, path, &errors);
-  if (!p) {
-    *err = path + ":";
-    for (const auto& e : errors) *err += " " + e.toString();
-    return false;
-  }
-  *text = *t;
-  *params = *p;
-  return true;
-}
-
-}  // namespace
-
 std::optional<std::map<std::string, ChannelDigest>> digestLog(const std::string& path, std::string* error) {
   runtime::LogReader r;
   if (!r.open(path)) {
@@ -82,10 +62,10 @@ bool recordToLog(const RecordingSpec& spec, const std::string& out_path, RecordS
   };
   RecorderConfig cfg;
   cfg.duration_s = spec.duration_s;
-  if (!loadText(spec.config_dir + "/simulator.yaml", &text, &cfg.sim, &err)) return failed(err);
+  if (!runtime::loadConfigFile(spec.config_dir + "/simulator.yaml", &cfg.sim, &text, &err)) return failed(err);
   if (const std::string bad = cfg.sim.validate(); !bad.empty()) return failed("simulator.yaml: " + bad);
   cfg.metadata.emplace_back("config/simulator.yaml", text);
-  if (!loadText(spec.config_dir + "/lidar_driver.yaml", &text, &cfg.driver, &err)) return failed(err);
+  if (!runtime::loadConfigFile(spec.config_dir + "/lidar_driver.yaml", &cfg.driver, &text, &err)) return failed(err);
   cfg.metadata.emplace_back("config/lidar_driver.yaml", text);
   auto sc = simulator::loadScenario(spec.scenario, spec.scenario_dir, spec.seed, runtime::readTextFile, &err);
   if (!sc) return failed(err);

@@ -59,22 +59,6 @@ std::string num(double x) {
   return buf;
 }
 
-template <class P>
-bool loadParamsFile(const std::string& path, P* out, std::string* text, std::string* err) {
-  auto t = ucon::runtime::readTextFile(path, err);
-  if (!t) return false;
-  std::vector<ucon::ConfigError> errors;
-  auto p = ucon::loadParams<P>(*t, path, &errors);
-  if (!p) {
-    *err = path + ":";
-    for (const auto& e : errors) *err += " " + e.toString();
-    return false;
-  }
-  *out = *p;
-  if (text) *text = *t;
-  return true;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -135,9 +119,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "ucon-bench-nav: --faults: %s\n", err.c_str());
     return 2;
   }
-  if (!loadParamsFile(setup.config_dir + "/simulator.yaml", &setup.sim, nullptr, &err) ||
-      !loadParamsFile(setup.config_dir + "/lidar_driver.yaml", &setup.driver, nullptr, &err) ||
-      !loadParamsFile(setup.config_dir + "/mission.yaml", &setup.mission, nullptr, &err)) {
+  if (!ucon::runtime::loadConfigFile(setup.config_dir + "/simulator.yaml", &setup.sim, nullptr, &err) ||
+      !ucon::runtime::loadConfigFile(setup.config_dir + "/lidar_driver.yaml", &setup.driver, nullptr, &err) ||
+      !ucon::runtime::loadConfigFile(setup.config_dir + "/mission.yaml", &setup.mission, nullptr, &err)) {
     std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
     return 2;
   }
@@ -162,7 +146,7 @@ int main(int argc, char** argv) {
   {
     // Pipeline latencies: a LiDAR frame period for perception, the planner's own latency_s.
     ucon::planner::PlannerParams pp;
-    if (!loadParamsFile(setup.config_dir + "/planner.yaml", &pp, nullptr, &err)) {
+    if (!ucon::runtime::loadConfigFile(setup.config_dir + "/planner.yaml", &pp, nullptr, &err)) {
       std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
       return 2;
     }

@@ -326,22 +326,6 @@ Result runOne(const Setup& setup, const std::string& spec, bool verbose) {
   return res;
 }
 
-template <class P>
-bool loadFile(const std::string& path, P* out, std::string* text, std::string* err) {
-  auto t = ucon::runtime::readTextFile(path, err);
-  if (!t) return false;
-  std::vector<ucon::ConfigError> errors;
-  auto p = ucon::loadParams<P>(*t, path, &errors);
-  if (!p) {
-    *err = path + ":";
-    for (const auto& e : errors) *err += " " + e.toString();
-    return false;
-  }
-  *out = *p;
-  if (text) *text = *t;
-  return true;
-}
-
 const char* const kEstimators[] = {"lio", "imu_only", "lidar_only"};
 
 std::string errorsJson(const ucon::lio::TrajectoryErrors& e) {
@@ -386,8 +370,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
 
   std::string err;
-  if (!loadFile(setup.config_dir + "/simulator.yaml", &setup.sim, nullptr, &err) ||
-      !loadFile(setup.config_dir + "/lidar_driver.yaml", &setup.driver, nullptr, &err)) {
+  if (!ucon::runtime::loadConfigFile(setup.config_dir + "/simulator.yaml", &setup.sim, nullptr, &err) ||
+      !ucon::runtime::loadConfigFile(setup.config_dir + "/lidar_driver.yaml", &setup.driver, nullptr, &err)) {
     std::fprintf(stderr, "ucon-bench-odometry: %s\n", err.c_str());
     return 2;
   }

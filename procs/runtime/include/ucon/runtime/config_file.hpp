@@ -19,6 +19,11 @@ std::optional<std::string> readTextFile(const std::string& path, std::string* er
 template <class P>
 std::optional<P> loadConfigFile(const std::string& process, const std::string& path);
 
+/// Loads `path` into `*out` (and its text into `*text` if not null). False and `error` (the
+/// path, then every error naming its key) if the file cannot be read or is not a valid P.
+template <class P>
+bool loadConfigFile(const std::string& path, P* out, std::string* text, std::string* error);
+
 /// Prints config errors to stderr, one per line.
 void printConfigErrors(const std::string& process, const std::vector<ConfigError>& errors);
 
@@ -34,6 +39,22 @@ std::optional<P> loadConfigFile(const std::string& process, const std::string& p
   auto p = loadParams<P>(*text, path, &errors);
   if (!p) printConfigErrors(process, errors);
   return p;
+}
+
+template <class P>
+bool loadConfigFile(const std::string& path, P* out, std::string* text, std::string* error) {
+  auto t = readTextFile(path, error);
+  if (!t) return false;
+  std::vector<ConfigError> errors;
+  auto p = loadParams<P>(*t, path, &errors);
+  if (!p) {
+    *error = path + ":";
+    for (const auto& e : errors) *error += " " + e.toString();
+    return false;
+  }
+  *out = *p;
+  if (text) *text = *t;
+  return true;
 }
 
 }  // namespace runtime
