@@ -17,6 +17,11 @@
 // within 5 m of the robot; velocity_error_over_std: median over runs of the rms of that error over
 // the rms of the standard deviation the track states for it, 1 for a consistent covariance).
 //
+// --planner-model sector,no_uncertainty,fapp runs every seed once per obstacle model (the
+// methods of Table II in the whole stack) and compares each with the first on the same seeds
+// (McNemar's test, the paired difference with its 95 % interval); --check-growth K sets the
+// covariance growth that all models share outside the cost (post-check, fallback) to K.
+//
 // This file: the command line, the runs on a pool of threads, the table and the JSON. One run's
 // loop is in run.cpp, what a run measures (the mission in the loop, tracking quality, the
 // result and the table's rows) in metrics.cpp, the stage timer and the perception probe with
@@ -28,19 +33,24 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "../bench_util.hpp"
+#include "../planning/paired_stats.hpp"
 #include "metrics.hpp"
+#include "planner_variant.hpp"
 #include "run.hpp"
 #include "ucon/channels.hpp"
 #include "ucon/config.hpp"
 #include "ucon/planner/planner_params.hpp"
 #include "ucon/replay/node_adapter.hpp"
 #include "ucon/runtime/config_file.hpp"
+#include "ucon/trajopt/sector_minco.hpp"
 
 #ifndef UCON_SOURCE_DIR
 #define UCON_SOURCE_DIR "."
@@ -98,6 +108,17 @@ int main(int argc, char** argv) {
                "diagnosis: points within 0.25 m of a mover are removed from PERCEPTION_STATIC");
   app.add_option("--pose", setup.pose, "robot pose: ground_truth (the simulator's) | odometry (LiDAR-inertial)")
       ->check(CLI::IsMember({"ground_truth", "odometry"}));
+  std::vector<std::string> models;
+  app.add_option("--planner-model", models,
+                 "obstacle model(s) of the planner, comma list of sector | no_uncertainty | fapp: every seed runs "
+                 "once per model, each compared with the first on the same seeds (default: planner.yaml's)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"sector", "no_uncertainty", "fapp"}));
+  double check_growth = -1.0;
+  app.add_option("--check-growth", check_growth,
+                 "set the covariance growth every model shares outside the cost (optimizer.check_uncertainty_k "
+                 "and fallback.uncertainty_k, in std) to this for all (default: planner.yaml's)")
+      ->check(CLI::Range(0.0, 5.0));
   std::string faults;
   app.add_option("--faults", faults,
                  "inject faults on the bus and run every seed with and without them: "
@@ -143,6 +164,38 @@ int main(int argc, char** argv) {
     }
     setup.node_yaml[n] = *t;
   }
+  // One setup per planner model (--planner-model, --check-growth); the first is the reference.
+  if (models.empty()) models.push_back("");
+  for (std::size_t a = 0; a < models.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (models[a] == models[b]) {
+        std::fprintf(stderr, "ucon-bench-nav: --planner-model names '%s' twice\n", models[a].c_str());
+        return 2;
+      }
+  if (models.size() > 1 && !faults.empty()) {
+    std::fprintf(stderr, "ucon-bench-nav: --faults compares each seed with its fault-free run; give one "
+                         "--planner-model with it\n");
+    return 2;
+  }
+  std::vector<Setup> variants;
+  for (const auto& m : models) {
+    Setup v = setup;
+    if (!m.empty() || check_growth >= 0.0) {
+      if (!plannerVariant(setup.node_yaml.at("planner"), m, check_growth, &v.node_yaml["planner"], &err)) {
+        std::fprintf(stderr, "ucon-bench-nav: %s\n", err.c_str());
+        return 2;
+      }
+    }
+    variants.push_back(std::move(v));
+  }
+  // The model each variant runs, as its planner.yaml says (the default's name too).
+  std::vector<std::string> model_names;
+  for (const auto& v : variants) {
+    ucon::planner::PlannerParams pp;
+    std::vector<ucon::ConfigError> errors;
+    auto p = ucon::loadParams<ucon::planner::PlannerParams>(v.node_yaml.at("planner"), "planner.yaml", &errors);
+    model_names.push_back(p ? ucon::trajopt::toString(p->optimizer.obstacle_model) : "?");
+  }
   {
     // Pipeline latencies: a LiDAR frame period for perception, the planner's own latency_s.
     ucon::planner::PlannerParams pp;
@@ -167,33 +220,39 @@ int main(int argc, char** argv) {
     int n_dynamic;
     uint64_t seed;
     bool faulty;  ///< with --faults: the run with the faults (the other one is its fault-free pair)
+    std::size_t variant;  ///< index into `variants` (--planner-model)
   };
   std::vector<Task> tasks;
-  Setup fault_free = setup;
-  fault_free.faults = FaultSpec{};
+  std::vector<Setup> fault_free = variants;
+  for (auto& v : fault_free) v.faults = FaultSpec{};
   for (int s = 0; s < seeds; ++s)
-    for (int d : density_list) {
-      tasks.push_back({d, seed_base + uint64_t(s), false});
-      if (setup.faults.any()) tasks.push_back({d, seed_base + uint64_t(s), true});
-    }
+    for (int d : density_list)
+      for (std::size_t v = 0; v < variants.size(); ++v) {
+        tasks.push_back({d, seed_base + uint64_t(s), false, v});
+        if (setup.faults.any()) tasks.push_back({d, seed_base + uint64_t(s), true, v});
+      }
+  const bool several = variants.size() > 1;
+  auto modelTag = [&](std::size_t v) { return several ? " " + model_names[v] : std::string(); };
   std::vector<RunResult> results(tasks.size());
   std::atomic<std::size_t> next{0};
   std::mutex print_mutex;
   const auto bench_t0 = Clock::now();
   auto worker = [&] {
     for (std::size_t i = next++; i < tasks.size(); i = next++) {
-      results[i] = runOne(tasks[i].faulty ? setup : fault_free, tasks[i].n_dynamic, tasks[i].seed, timeout_s, oracle,
-                          pipeline);
+      const Task& task = tasks[i];
+      results[i] = runOne(task.faulty ? variants[task.variant] : fault_free[task.variant], task.n_dynamic, task.seed,
+                          timeout_s, oracle, pipeline);
       const auto& r = results[i];
       if (verbose || !r.ok) {
         std::lock_guard<std::mutex> lock(print_mutex);
         if (!r.ok) {
-          std::printf("N_d=%3d seed=%4llu%s ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed,
-                      tasks[i].faulty ? " faults" : "", r.error.c_str());
+          std::printf("N_d=%3d seed=%4llu%s%s ERROR %s\n", r.n_dynamic, (unsigned long long)r.seed,
+                      modelTag(task.variant).c_str(), task.faulty ? " faults" : "", r.error.c_str());
         } else {
-          std::printf("N_d=%3d seed=%4llu%s %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
+          std::printf("N_d=%3d seed=%4llu%s%s %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
                       "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s%s\n",
-                      r.n_dynamic, (unsigned long long)r.seed, tasks[i].faulty ? " faults" : "",
+                      r.n_dynamic, (unsigned long long)r.seed, modelTag(task.variant).c_str(),
+                      task.faulty ? " faults" : "",
                       r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
                       r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
                       (long long)(r.messages.count(ucon::channels::kLidarPoints) ? r.messages.at(ucon::channels::kLidarPoints) : 0),
@@ -214,12 +273,14 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   int rc = 0;
+  for (std::size_t v = 0; v < variants.size(); ++v)
   for (int d : density_list) {
     Row row;
     row.n_dynamic = d;
+    row.model = model_names[v];
     for (std::size_t i = 0; i < results.size(); ++i) {
       const auto& r = results[i];
-      if (r.n_dynamic != d || tasks[i].faulty) continue;
+      if (r.n_dynamic != d || tasks[i].faulty || tasks[i].variant != v) continue;
       std::string why;
       if (r.pipelineBroken(&why)) {
         std::fprintf(stderr, "ucon-bench-nav: pipeline broken at bench:%d:%llu: %s\n", d,
@@ -230,6 +291,16 @@ int main(int argc, char** argv) {
     }
     rows.push_back(std::move(row));
   }
+  // A row's name in the tables: N_d, with the model when several run.
+  auto label = [&](const Row& r) {
+    char buf[48];
+    if (several)
+      std::snprintf(buf, sizeof(buf), "%14s %3d", r.model.c_str(), r.n_dynamic);
+    else
+      std::snprintf(buf, sizeof(buf), "%5d", r.n_dynamic);
+    return std::string(buf);
+  };
+  const std::string label_head = several ? "         model N_d" : "  N_d";
   auto mean = [](const std::vector<double>& v) {
     if (v.empty()) return double(NAN);
     double s = 0.0;
@@ -247,11 +318,14 @@ int main(int argc, char** argv) {
     std::printf("pipelined: perception and planner on threads of their own (per run), their outputs delivered "
                 "%.0f ms and %.0f ms after their inputs (--serial: one thread)\n",
                 1e-3 * double(pipeline.perception_delay_us), 1e-3 * double(pipeline.planner_delay_us));
-  std::printf("%5s %5s | %8s %5s %6s | %9s %9s | %6s %6s | %s\n", "N_d", "runs", "succ[%]", "coll", "tmout",
+  if (check_growth >= 0.0)
+    std::printf("--check-growth %g: the post-check and the fallback grow every body by %g std of its predicted "
+                "position, for every model\n", check_growth, check_growth);
+  std::printf("%s %5s | %8s %5s %6s | %9s %9s | %6s %6s | %s\n", label_head.c_str(), "runs", "succ[%]", "coll", "tmout",
               "t_goal[s]", "t_goal_md", "RT x", "RT cpu", "median latency [ms]: driver/frame  perception/frame  "
               "planner/plan  controller/tick");
   for (const auto& r : rows) {
-    std::printf("%5d %5d | %8.1f %5d %6d | %9.1f %9.1f | %6.2f %6.2f | %8.3f %8.2f %8.2f %8.3f\n", r.n_dynamic, r.runs,
+    std::printf("%s %5d | %8.1f %5d %6d | %9.1f %9.1f | %6.2f %6.2f | %8.3f %8.2f %8.2f %8.3f\n", label(r).c_str(), r.runs,
                 r.runs ? 100.0 * r.successes / r.runs : NAN, r.collisions, r.timeouts, mean(r.ttg),
                 percentile(r.ttg, 0.5), r.wall_s > 0 ? r.sim_s / r.wall_s : NAN,
                 r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, percentile(r.samples[0], 0.5),
@@ -261,12 +335,14 @@ int main(int argc, char** argv) {
               " RT cpu = simulated seconds / CPU seconds of the run's threads together, i.e. of one core doing it all;\n"
               " coll = runs that ended in a collision; t_goal = mean / median over successful runs)\n");
   std::printf("collisions with movers / static obstacles:");
-  for (const auto& r : rows) std::printf("  N_d=%d: %d / %d", r.n_dynamic, r.hit_mover, r.hit_static);
+  for (const auto& r : rows)
+    std::printf("  %sN_d=%d: %d / %d", several ? (r.model + " ").c_str() : "", r.n_dynamic, r.hit_mover, r.hit_static);
   std::printf("\n");
   std::printf("tracking, median over runs: recall (visible movers within 10 m with a track within 0.7 m) / "
               "velocity error of those within 5 m [m/s] / that error over the std the tracks state (1: consistent):");
   for (const auto& r : rows)
-    std::printf("  N_d=%d: %.3f / %.3f / %.2f", r.n_dynamic, percentile(r.recall, 0.5), percentile(r.verr, 0.5),
+    std::printf("  %sN_d=%d: %.3f / %.3f / %.2f", several ? (r.model + " ").c_str() : "", r.n_dynamic,
+                percentile(r.recall, 0.5), percentile(r.verr, 0.5),
                 percentile(r.vcons, 0.5));
   std::printf("\n");
   if (pipeline.serial)
@@ -279,7 +355,7 @@ int main(int argc, char** argv) {
   for (const auto& r : rows) {
     if (r.sim_s <= 0) continue;
     double on_loop = 0.0;
-    std::printf("%5d |", r.n_dynamic);
+    std::printf("%s |", label(r).c_str());
     for (int k = 0; k < kNumStages; ++k) {
       if (pipeline.serial || k == 0 || k == 3) on_loop += r.stage_total_ms[k];
       std::printf(" %s %7.1f (%4.1f%%)", kStages[k], r.stage_total_ms[k] / r.sim_s,
@@ -295,7 +371,7 @@ int main(int argc, char** argv) {
   std::printf("Node wall time per simulated second by input channel [ms]:\n");
   for (const auto& r : rows) {
     if (r.sim_s <= 0) continue;
-    std::printf("%5d |", r.n_dynamic);
+    std::printf("%s |", label(r).c_str());
     for (int k = 1; k < kNumStages; ++k) {
       for (const auto& [ch, ms] : r.by_input_ms[k]) std::printf(" %s<-%s %.1f", kStages[k], ch.c_str(), ms / r.sim_s);
     }
@@ -303,7 +379,7 @@ int main(int argc, char** argv) {
   }
   std::printf("p95 latency [ms]:\n");
   for (const auto& r : rows) {
-    std::printf("%5d |", r.n_dynamic);
+    std::printf("%s |", label(r).c_str());
     for (int k = 0; k < kNumStages; ++k) std::printf(" %s %8.3f", kStages[k], percentile(r.samples[k], 0.95));
     std::printf("\n");
   }
@@ -355,12 +431,68 @@ int main(int argc, char** argv) {
     }
   }
 
+  // --planner-model with several models: each against the first on the same seeds.
+  struct PairRow {
+    int n_dynamic = 0;
+    std::size_t variant = 0;
+    int runs = 0, first_ok = 0, other_ok = 0;
+    int only_first = 0, only_other = 0;  ///< seeds only the first model / only this one succeeded on
+    int first_hit_mover = 0, other_hit_mover = 0, first_hit_static = 0, other_hit_static = 0;
+  };
+  std::vector<PairRow> pair_rows;
+  if (several) {
+    std::map<std::tuple<int, uint64_t, std::size_t>, std::size_t> at;
+    for (std::size_t i = 0; i < tasks.size(); ++i)
+      if (!tasks[i].faulty) at[{tasks[i].n_dynamic, tasks[i].seed, tasks[i].variant}] = i;
+    for (int d : density_list)
+      for (std::size_t v = 1; v < variants.size(); ++v) {
+        PairRow p;
+        p.n_dynamic = d;
+        p.variant = v;
+        for (int k = 0; k < seeds; ++k) {
+          const uint64_t seed = seed_base + uint64_t(k);
+          const RunResult& a = results[at.at({d, seed, 0})];
+          const RunResult& b = results[at.at({d, seed, v})];
+          if (!a.ok || !b.ok) continue;
+          ++p.runs;
+          p.first_ok += a.success;
+          p.other_ok += b.success;
+          p.only_first += a.success && !b.success;
+          p.only_other += !a.success && b.success;
+          if (a.collision) (a.hit_mover ? p.first_hit_mover : p.first_hit_static) += 1;
+          if (b.collision) (b.hit_mover ? p.other_hit_mover : p.other_hit_static) += 1;
+        }
+        pair_rows.push_back(p);
+      }
+    std::printf("\nPaired on the same seeds, each model against %s (only = seeds that model alone succeeded on; "
+                "diff = success of the model minus %s with its 95 %% interval; p = McNemar's exact two-sided "
+                "test on the discordant seeds; [lo, hi] = Wilson 95 %% intervals)\n",
+                model_names[0].c_str(), model_names[0].c_str());
+    std::printf("%5s %14s %5s | %22s %22s | %6s %6s | %23s %7s | %9s %9s\n", "N_d", "model", "runs",
+                (model_names[0] + " [%]").c_str(), "model [%]", "only_r", "only_m", "diff [points]", "p",
+                "coll ref", "coll mod");
+    for (const auto& p : pair_rows) {
+      const ucon::bench::Interval wf = ucon::bench::wilson(p.first_ok, p.runs);
+      const ucon::bench::Interval wo = ucon::bench::wilson(p.other_ok, p.runs);
+      const auto df = ucon::bench::pairedDifference(p.only_other, p.only_first, p.runs);
+      const auto mc = ucon::bench::mcnemar(p.only_first, p.only_other);
+      const double n = p.runs ? double(p.runs) : NAN;
+      std::printf("%5d %14s %5d | %6.1f [%5.1f, %5.1f] %6.1f [%5.1f, %5.1f] | %6d %6d | %+6.1f [%+6.1f, %+6.1f] "
+                  "%7.3f | %3d m %2d s %3d m %2d s\n",
+                  p.n_dynamic, model_names[p.variant].c_str(), p.runs, 100.0 * p.first_ok / n, 100.0 * wf.lo,
+                  100.0 * wf.hi, 100.0 * p.other_ok / n, 100.0 * wo.lo, 100.0 * wo.hi, p.only_first, p.only_other,
+                  100.0 * df.diff, 100.0 * df.lo, 100.0 * df.hi, mc.exact_p, p.first_hit_mover, p.first_hit_static,
+                  p.other_hit_mover, p.other_hit_static);
+    }
+  }
+
   if (!json_path.empty()) {
     std::ofstream js(json_path);
     js << "{\"results\": [";
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const auto& r = rows[i];
-      js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << r.n_dynamic << ", \"runs\": " << r.runs
+      js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << r.n_dynamic << ", \"planner_model\": \"" << r.model
+         << "\", \"runs\": " << r.runs
          << ", \"success_rate\": " << num(r.runs ? double(r.successes) / r.runs : NAN)
          << ", \"collisions\": " << r.collisions << ", \"time_to_goal_s\": " << num(mean(r.ttg))
          << ", \"realtime_factor\": " << num(r.wall_s > 0 ? r.sim_s / r.wall_s : NAN)
@@ -375,6 +507,26 @@ int main(int argc, char** argv) {
       js << "}}";
     }
     js << "\n]";
+    js << ",\n \"check_growth\": " << (check_growth >= 0.0 ? num(check_growth) : "null");
+    if (several) {
+      js << ",\n \"paired\": {\"reference\": \"" << model_names[0] << "\", \"results\": [";
+      for (std::size_t i = 0; i < pair_rows.size(); ++i) {
+        const auto& p = pair_rows[i];
+        const double n = p.runs ? double(p.runs) : NAN;
+        const auto df = ucon::bench::pairedDifference(p.only_other, p.only_first, p.runs);
+        const auto mc = ucon::bench::mcnemar(p.only_first, p.only_other);
+        js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << p.n_dynamic << ", \"planner_model\": \""
+           << model_names[p.variant] << "\", \"runs\": " << p.runs
+           << ", \"success_rate\": " << num(p.other_ok / n) << ", \"reference_success_rate\": " << num(p.first_ok / n)
+           << ", \"only_reference\": " << p.only_first << ", \"only_model\": " << p.only_other
+           << ", \"difference\": " << num(df.diff) << ", \"difference_ci95\": [" << num(df.lo) << ", " << num(df.hi)
+           << "], \"mcnemar_exact_p\": " << num(mc.exact_p) << ", \"collisions_mover\": " << p.other_hit_mover
+           << ", \"collisions_static\": " << p.other_hit_static
+           << ", \"reference_collisions_mover\": " << p.first_hit_mover
+           << ", \"reference_collisions_static\": " << p.first_hit_static << "}";
+      }
+      js << "\n ]}";
+    }
     if (setup.faults.any()) {
       std::string spec;  // JSON string body
       for (const char c : setup.faults.text) {

@@ -124,6 +124,7 @@ std::string planTally(const std::vector<std::pair<std::string, int64_t>>& planne
 /// One density's runs together (a line of the table).
 struct Row {
   int n_dynamic = 0;
+  std::string model;  ///< the planner's obstacle model (--planner-model)
   int runs = 0, successes = 0, collisions = 0, timeouts = 0;
   std::vector<double> ttg;
   double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
