@@ -67,6 +67,7 @@ OpenLoopResult runOpenLoop(const planner::PlannerParams& base, const OpenLoopCon
         oc.has_plan = po.trajectory.num_pieces > 0 &&
                       trajectory::PiecewisePolynomial::fromMessage(po.trajectory, &pp) == trajectory::TrajectoryStatus::kOk;
         oc.passed_check = oc.has_plan && po.status == trajopt::PlanStatus::kOk;
+        oc.status = po.status;
         if (oc.has_plan) {
           oc.play = playPlan(pp, t0, cfg.horizons[h], ctx.world, robot_radius);
           oc.hit_tracked = oc.play.mover >= 0 && tracked[std::size_t(oc.play.mover)];

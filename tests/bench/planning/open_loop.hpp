@@ -14,6 +14,7 @@
 
 #include "closed_loop.hpp"
 #include "probe.hpp"
+#include "ucon/trajopt/sector_minco.hpp"
 #include "ucon/world/scenario.hpp"
 
 namespace ucon::bench {
@@ -28,6 +29,7 @@ struct OpenLoopConfig {
 struct PlanOutcome {
   bool has_plan = false;      ///< the optimiser produced a trajectory (checked or not)
   bool passed_check = false;  ///< ... and it passed the optimiser's post-check
+  trajopt::PlanStatus status = trajopt::PlanStatus::kInvalidInput;  ///< the optimiser's verdict (why the check failed)
   PlayResult play;            ///< played against the true motion (no plan: not contact-free)
   bool hit_tracked = false;   ///< the mover touched first had a track in the problem
   double plan_ms = 0.0, plan_cpu_ms = 0.0;

@@ -33,6 +33,8 @@ const char* motionName(world::MotionKind k) {
 struct Cell {
   int64_t probes = 0, free = 0, mover_contacts = 0, static_contacts = 0, no_plan = 0, avoidable = 0,
           avoidable_free = 0, passed = 0, passed_free = 0;
+  /// Plans the check rejected, by its reason: static, dynamic, limits, other (no result, bad input).
+  int64_t rejected[4] = {0, 0, 0, 0};
   double jerk_sum = 0.0;
   int64_t jerk_n = 0;
   std::vector<double> plan_ms, plan_cpu_ms, iterations;
@@ -73,9 +75,9 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
   for (std::size_t h = 0; h < horizons.size(); ++h) {
     std::printf("\n%s\nOpen-loop probes, evaluation horizon %.1f s (dynamic cost and check over the same horizon)\n",
                 command.c_str(), horizons[h]);
-    std::printf("%-15s %5s | %6s %8s %15s %6s %6s %6s | %9s %9s | %6s %8s %8s %6s\n", "method", "N_d", "probes",
-                "free[%]", "95% CI", "mover", "static", "noplan", "avoid[%]", "chk+fr[%]", "E", "tp_med", "cpu_p95",
-                "evals");
+    std::printf("%-15s %5s | %6s %8s %15s %6s %6s %6s | %9s %9s %19s | %6s %8s %8s %6s\n", "method", "N_d", "probes",
+                "free[%]", "95% CI", "mover", "static", "noplan", "avoid[%]", "chk+fr[%]", "rejected s/d/l/o", "E",
+                "tp_med", "cpu_p95", "evals");
     for (const int d : densities) {
       std::vector<Cell> cells(nm);
       std::map<std::string, std::vector<Count>> age, motion;
@@ -105,6 +107,13 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
               cell.avoidable_free += o.contactFree();
             }
             cell.passed += o.passed_check;
+            if (!o.passed_check) {
+              const trajopt::PlanStatus st = o.status;
+              ++cell.rejected[st == trajopt::PlanStatus::kStaticCollision    ? 0
+                              : st == trajopt::PlanStatus::kDynamicCollision ? 1
+                              : st == trajopt::PlanStatus::kLimitViolation   ? 2
+                                                                              : 3];
+            }
             cell.passed_free += o.passed_check && o.contactFree();
             if (o.has_plan) {
               cell.jerk_sum += o.play.jerk_mean;
@@ -137,10 +146,13 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
         const double avoid_rate = cl.avoidable ? double(cl.avoidable_free) / double(cl.avoidable) : NAN;
         const double passed_rate = cl.probes ? double(cl.passed_free) / double(cl.probes) : NAN;
         const double energy = cl.jerk_n ? cl.jerk_sum / double(cl.jerk_n) : NAN;
-        std::printf("%-15s %5d | %6lld %8.2f  [%5.2f, %5.2f] %6lld %6lld %6lld | %9.2f %9.2f | %6.2f %8.2f %8.2f %6.0f\n",
+        char rejected[64];
+        std::snprintf(rejected, sizeof(rejected), "%lld/%lld/%lld/%lld", (long long)cl.rejected[0],
+                      (long long)cl.rejected[1], (long long)cl.rejected[2], (long long)cl.rejected[3]);
+        std::printf("%-15s %5d | %6lld %8.2f  [%5.2f, %5.2f] %6lld %6lld %6lld | %9.2f %9.2f %19s | %6.2f %8.2f %8.2f %6.0f\n",
                     methods[m].c_str(), d, (long long)cl.probes, 100.0 * rate, 100.0 * ci.lo, 100.0 * ci.hi,
                     (long long)cl.mover_contacts, (long long)cl.static_contacts, (long long)cl.no_plan,
-                    100.0 * avoid_rate, 100.0 * passed_rate, energy, percentile(cl.plan_ms, 0.5),
+                    100.0 * avoid_rate, 100.0 * passed_rate, rejected, energy, percentile(cl.plan_ms, 0.5),
                     percentile(cl.plan_cpu_ms, 0.95), percentile(cl.iterations, 0.5));
         results << (first_result ? "" : ",\n") << "    {\"horizon_s\": " << num(horizons[h]) << ", \"n_dynamic\": " << d
                 << ", \"method\": \"" << methods[m] << "\", \"probes\": " << cl.probes
@@ -150,6 +162,8 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
                 << ", \"avoidable_probes\": " << cl.avoidable << ", \"contact_free_avoidable_rate\": " << num(avoid_rate)
                 << ", \"mover_contact_free_rate\": " << num(cl.probes ? 1.0 - double(cl.mover_contacts + cl.no_plan) / double(cl.probes) : NAN)
                 << ", \"passed_check\": " << cl.passed << ", \"passed_check_contact_free_rate\": " << num(passed_rate)
+                << ", \"check_rejected\": {\"static\": " << cl.rejected[0] << ", \"dynamic\": " << cl.rejected[1]
+                << ", \"limits\": " << cl.rejected[2] << ", \"other\": " << cl.rejected[3] << "}"
                 << ", \"energy_jerk_mean\": " << num(energy)
                 << ", \"plan_ms_median\": " << num(percentile(cl.plan_ms, 0.5))
                 << ", \"plan_cpu_ms_median\": " << num(percentile(cl.plan_cpu_ms, 0.5))
@@ -216,7 +230,8 @@ bool reportOpenLoop(const std::vector<OpenRunKey>& keys, const std::vector<OpenL
   }
   std::printf("(free: the raw plan touches neither a mover nor a static obstacle within the horizon; avoid: the same "
               "over plans whose first mover contact, if any, was with a tracked mover; chk+fr: passed the optimiser's "
-              "check and contact-free; E: mean |jerk| of the plans [m/s^3]; tp_med: median planning time [ms]; "
+              "check and contact-free; rejected s/d/l/o: plans the check rejected for a static obstacle, a predicted "
+              "mover, the limits, or other (no result); E: mean |jerk| of the plans [m/s^3]; tp_med: median planning time [ms]; "
               "cpu_p95: plan thread CPU p95 [ms]; breakdowns by the mover nearest to the robot at plan time)\n");
   std::printf("reference runs: %zu, shuttle legs completed %lld, reference collisions %lld, probe times without a "
               "problem %lld\n",
