@@ -102,6 +102,11 @@ if [ -n "$log" ]; then
   for ch in LIDAR_POINTS SIM_GROUND_TRUTH ROBOT_POSE BASE_WHEEL_CMD PLANNER_TRAJECTORY; do
     check "host B's log holds $ch" 'echo "$summary" | grep -q "^$ch "'
   done
+  # For a failure's diagnosis: what the logger on B counted as lost (gaps in the senders' seq).
+  "$BUILD/bin/ucon-logdump" "$log" --channel '^LOGGER_STATUS$' 2>/dev/null |
+    awk '/^#/ { n = 0; delete nm } /counter_names\[/ { i = $1; gsub(/[^0-9]/, "", i); v = $3; gsub(/"/, "", v); nm[i] = v }
+         /counter_values\[/ { i = $1; gsub(/[^0-9]/, "", i); if (nm[i] ~ /seq_gaps|dropped/) last[nm[i]] = $3 }
+         END { for (k in last) printf "logger on B: %s %s\n", k, last[k] }' | sort
 fi
 check "the run took at most 120 s of wall time (${wall} s)" '[ "$wall" -le 120 ]'
 echo "checks failed: $fails"
