@@ -52,6 +52,8 @@ class SoakCheck(unittest.TestCase):
         # planner: 1200 kB at 60 s, at most 1220 kB later: +1.67 %; the first minute's +20 % does not count
         self.assertAlmostEqual(j["processes"]["planner"]["growth_pct_max"], 100 * 20 / 1200, places=6)
         self.assertEqual(j["processes"]["planner"]["samples"], 5)
+        # second half: from the sample at (60 + 120) / 2 = 90 s (1210 kB) to the end (1220 kB)
+        self.assertAlmostEqual(j["processes"]["planner"]["growth_pct_second_half"], 100 * 10 / 1210, places=6)
         self.assertEqual(j["logger_messages"], 900, "the last LOGGER_STATUS counts")
 
     def test_given_growth_over_the_limit_after_the_warm_up_then_it_fails(self):
