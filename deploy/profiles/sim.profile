@@ -14,7 +14,7 @@
 40  planner          nav     yes  $UCON_CONFIG_DIR/planner.yaml          $UCON_BIN/ucon-planner --config $UCON_CONFIG --lcm-url "$UCON_LCM_URL"
 50  base_controller  base    yes  $UCON_CONFIG_DIR/base_controller.yaml  $UCON_BIN/ucon-base-controller --config $UCON_CONFIG --backend lcm --lcm-url "$UCON_LCM_URL"
 60  logger           log     yes  $UCON_CONFIG_DIR/logger.yaml           $UCON_BIN/ucon-logger --config $UCON_CONFIG --log-dir "$UCON_LOG_DIR" --lcm-url "$UCON_LCM_URL"
-70  mission          main    no   $UCON_CONFIG_DIR/mission.yaml          $UCON_BIN/ucon-mission --config $UCON_CONFIG --scenario "$UCON_SCENARIO" --duration $UCON_DURATION --summary-json "$UCON_LOG_DIR/summary.json" --lcm-url "$UCON_LCM_URL"
+70  mission          main    no   $UCON_CONFIG_DIR/mission.yaml          $UCON_BIN/ucon-mission --config $UCON_CONFIG --scenario "$UCON_SCENARIO" --duration $UCON_DURATION $UCON_MISSION_OPTS --summary-json "$UCON_LOG_DIR/summary.json" --lcm-url "$UCON_LCM_URL"
 # Optional (@foxglove: on with `deploy/ucon sim --foxglove`): live view in Foxglove, read-only,
 # on 127.0.0.1 unless --foxglove-bind says otherwise.
 @foxglove 65  foxglove  viz  yes  $UCON_CONFIG_DIR/planner.yaml          $UCON_BIN/ucon-foxglove-bridge --port $UCON_FOXGLOVE_PORT --bind $UCON_FOXGLOVE_BIND --planner-config $UCON_CONFIG --lcm-url "$UCON_LCM_URL"

@@ -19,11 +19,14 @@ int main(int argc, char** argv) {
   std::string config = "deploy/config/mission.yaml", scenario_spec = "pedestrians", scenario_dir,
               url, summary_json;
   double duration = 0.0;
+  bool loop = false;
   app.add_option("--config", config, "mission YAML config");
   app.add_option("--scenario", scenario_spec, "pedestrians | crossing | bench:<N_d>:<seed> | path.yaml");
   app.add_option("--scenario-dir", scenario_dir, "folder of the named scenarios (default deploy/scenarios)");
   app.add_option("--duration", duration, "end after this much simulated time [s]; 0 = when the goals are reached")
       ->check(CLI::NonNegativeNumber);
+  app.add_flag("--loop", loop,
+               "after the last goal, back to the start and through the goals again, until --duration");
   app.add_option("--summary-json", summary_json, "also write the summary as JSON to this file");
   app.add_option("--lcm-url", url, "LCM URL");
   CLI11_PARSE(app, argc, argv);
@@ -49,9 +52,9 @@ int main(int argc, char** argv) {
   }
   ucon::runtime::installSignalHandlers();
 
-  ucon::mission::MissionNode node(*params, scenario->robot.goals, duration);
-  std::printf("mission: scenario %s, %zu goal(s)%s\n", scenario->name.c_str(),
-              scenario->robot.goals.size(),
+  ucon::mission::MissionNode node(*params, scenario->robot.goals, duration, loop);
+  std::printf("mission: scenario %s, %zu goal(s)%s%s\n", scenario->name.c_str(),
+              scenario->robot.goals.size(), loop ? " in a loop (back to the start after the last)" : "",
               duration > 0 ? (", at most " + std::to_string(static_cast<int>(duration)) + " s").c_str() : "");
   std::fflush(stdout);
   // A live status line every second (wall time: it is for the person watching).

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Launcher tests: stop kills a process that ignores SIGINT after the grace period and leaves
-# no orphans; a profile naming a missing process starts nothing and exits non-zero; respawn.
+# no orphans; a profile naming a missing process starts nothing and exits non-zero; respawn;
+# host placement with --only / --except.
 set -u
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 UCON="$ROOT/deploy/ucon"
@@ -59,6 +60,37 @@ check "respawn profile stopped cleanly" '[ "$(count)" -eq 0 ]'
 check "unknown command exits 2 (got $rc)" '[ $rc -eq 2 ]'
 "$UCON" start no-such-profile >/dev/null 2>&1; rc=$?
 check "unknown profile exits 2 (got $rc)" '[ $rc -eq 2 ]'
+
+# 5. Host placement: --only / --except start the named groups or processes and no others;
+# a name that is neither is an error that starts nothing.
+placement="$ROOT/tests/launcher/placement.profile"
+"$UCON" start "$placement" --only sensor --detach --log-dir "$tmp/logs" --lcm-url "$URL" >"$tmp/only.out" 2>&1
+sleep 1
+started=$(ls "$UCON_RUN_DIR"/procs/*.started 2>/dev/null | xargs -n 1 basename 2>/dev/null | xargs)
+check "--only sensor starts sensorproc alone (started: $started)" '[ "$started" = "sensorproc.started" ]'
+check "--only says what runs here" 'grep -q "on this host: sensorproc" "$tmp/only.out"'
+check "--only with ttl=0 warns that nothing leaves the host" 'grep -q "warning: .*ttl 0" "$tmp/only.out"'
+check "status shows the selection" '"$UCON" status | grep -q "(only: sensor)"'
+check "one process runs" '[ "$(count)" -eq 1 ]'
+"$UCON" stop --grace 1 >/dev/null 2>&1
+"$UCON" start "$placement" --except sensor,logproc --detach --log-dir "$tmp/logs" \
+  --lcm-url "udpm://239.255.76.67:7803?ttl=1" >"$tmp/except.out" 2>&1
+sleep 1
+started=$(ls "$UCON_RUN_DIR"/procs/*.started 2>/dev/null | xargs -n 1 basename 2>/dev/null | xargs)
+check "--except sensor,logproc starts navproc alone (started: $started)" '[ "$started" = "navproc.started" ]'
+check "--except with ttl=1 gives no ttl warning" '! grep -q "warning" "$tmp/except.out"'
+check "no process of group main: the run says it goes on until stopped" \
+  'grep -q "runs until deploy/ucon stop" "$tmp/except.out"'
+"$UCON" stop --grace 1 >/dev/null 2>&1
+sleep 0.3
+out=$("$UCON" start "$placement" --only sensr --detach --log-dir "$tmp/logs" 2>&1); rc=$?
+check "--only with an unknown name exits 2 (got $rc)" '[ $rc -eq 2 ]'
+check "the message names the bad name and the profile's groups" \
+  'echo "$out" | grep -q "sensr" && echo "$out" | grep -q "groups: sensor nav log"'
+out=$("$UCON" start "$placement" --only nav --except navproc --detach --log-dir "$tmp/logs" 2>&1); rc=$?
+check "a selection that leaves nothing exits 2 (got $rc)" '[ $rc -eq 2 ] && echo "$out" | grep -q "leave no process"'
+sleep 0.3
+check "nothing runs after the refused starts" '[ "$(count)" -eq 0 ]'
 
 echo "$(( $(grep -c "^ *check " "$0") - fails )) passed, $fails failed"
 [ $fails -eq 0 ]

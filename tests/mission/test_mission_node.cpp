@@ -1,5 +1,6 @@
 // MissionNode: goals sent in order and re-sent, run ends when reached or at the duration,
-// tracked objects scored against ground truth (invisible objects ignored), summary.
+// tracked objects scored against ground truth (invisible objects ignored), summary; a loop
+// goes back to the start after the last goal and ends at the duration.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -104,4 +105,45 @@ TEST(MissionNode, GivenTrackedObjectsThenTheyAreScoredAgainstGroundTruthAndInvis
   const std::string json = MissionNode::toJson(s, "x");
   EXPECT_NE(json.find("\"idsw\": 1"), std::string::npos) << json;
   EXPECT_NE(json.find("\"collisions\": 1"), std::string::npos) << json;
+}
+
+TEST(MissionNode, GivenALoopWhenTheLastGoalIsReachedThenTheRobotGoesBackToTheStartAndAgain) {
+  MissionParams p;
+  MissionNode m(p, {{5.0, 0.0}, {5.0, 5.0}}, 100.0, /*loop=*/true);
+  auto g = m.onPose(pose(1000000, 1, 2));  // first seen at (1, 2): each lap ends there
+  ASSERT_TRUE(g.has_value());
+  EXPECT_EQ(g->goal_id, 1);
+  g = m.onPose(pose(2000000, 5, 0));
+  ASSERT_TRUE(g.has_value());
+  EXPECT_EQ(g->goal_id, 2);
+  EXPECT_DOUBLE_EQ(g->y, 5.0);
+  g = m.onPose(pose(3000000, 5, 5));
+  ASSERT_TRUE(g.has_value()) << "after the last goal, back to the start";
+  EXPECT_EQ(g->goal_id, 3);
+  EXPECT_DOUBLE_EQ(g->x, 1.0);
+  EXPECT_DOUBLE_EQ(g->y, 2.0);
+  EXPECT_FALSE(m.done()) << "a loop does not end at its last goal";
+  EXPECT_EQ(m.summary().laps, 0);
+  EXPECT_FALSE(m.summary().success()) << "no lap completed yet";
+  g = m.onPose(pose(4000000, 1, 2));
+  ASSERT_TRUE(g.has_value()) << "the second lap starts with the first goal, as a new goal";
+  EXPECT_EQ(g->goal_id, 4);
+  EXPECT_DOUBLE_EQ(g->x, 5.0);
+  EXPECT_DOUBLE_EQ(g->y, 0.0);
+  auto s = m.summary();
+  EXPECT_EQ(s.laps, 1);
+  EXPECT_EQ(s.goals_reached, 3);
+  EXPECT_EQ(s.goals_total, 4) << "driven so far and the one under way";
+  EXPECT_NEAR(s.time_to_goals_s, 3.0, 1e-9) << "the first lap's goals";
+  EXPECT_TRUE(s.success());
+  m.onPose(pose(102000000, 3, 0));
+  EXPECT_TRUE(m.done());
+  EXPECT_EQ(m.endReason(), "duration reached");
+  s = m.summary();
+  EXPECT_TRUE(s.loop);
+  EXPECT_TRUE(s.success()) << "a loop succeeds with a lap and no collision";
+  EXPECT_NE(MissionNode::toJson(s, m.endReason()).find("\"laps\": 1"), std::string::npos);
+  EXPECT_NE(MissionNode::format(s, m.endReason()).find("1 lap(s) (loop)"), std::string::npos);
+  m.onGroundTruth(gt(102000000, 9.0, 1.0, /*collisions=*/1));
+  EXPECT_FALSE(m.summary().success()) << "a collision fails a loop";
 }

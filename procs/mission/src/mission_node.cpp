@@ -31,14 +31,15 @@ std::string jsonNumber(double v) {
 }  // namespace
 
 MissionNode::MissionNode(const MissionParams& params, std::vector<Eigen::Vector2d> goals,
-                         double duration_s)
-    : params_(params), goals_(std::move(goals)), duration_s_(duration_s) {}
+                         double duration_s, bool loop)
+    : params_(params), goals_(std::move(goals)), duration_s_(duration_s), loop_(loop) {}
 
 nav_goal_t MissionNode::goalMessage(int64_t utime) {
   nav_goal_t g{};
   g.utime = utime;
   g.seq = goal_seq_++;
-  g.goal_id = static_cast<int64_t>(current_) + 1;
+  // Numbered in the order they are driven: a goal of the second lap is a new goal.
+  g.goal_id = static_cast<int64_t>(reached_total_) + 1;
   g.action = nav_goal_t::ACTION_GO;
   g.x = goals_[current_].x();
   g.y = goals_[current_].y();
@@ -53,7 +54,10 @@ std::optional<nav_goal_t> MissionNode::onPose(const robot_pose_t& pose) {
     return std::nullopt;
   }
   const Eigen::Vector2d p(pose.x, pose.y);
-  if (first_utime_ == 0) first_utime_ = pose.utime;
+  if (first_utime_ == 0) {
+    first_utime_ = pose.utime;
+    if (loop_) goals_.push_back(p);  // each lap ends where the robot started
+  }
   const double dt = now_ == 0 ? 0.0 : (pose.utime - now_) * 1e-6;
   now_ = pose.utime;
   speed_ = std::hypot(pose.vx, pose.vy);
@@ -72,8 +76,15 @@ std::optional<nav_goal_t> MissionNode::onPose(const robot_pose_t& pose) {
   }
   if (current_ < goals_.size() && (p - goals_[current_]).norm() <= params_.goal_tolerance) {
     ++current_;
+    ++reached_total_;
     last_sent_ = 0;  // send the next goal at once
-    if (current_ == goals_.size()) reached_all_utime_ = now_;
+    if (current_ == goals_.size()) {
+      if (reached_all_utime_ == 0) reached_all_utime_ = now_;
+      if (loop_) {
+        ++laps_;
+        current_ = 0;
+      }
+    }
   }
   if (current_ == goals_.size()) {
     if ((now_ - reached_all_utime_) * 1e-6 >= params_.settle_s) {
@@ -172,7 +183,8 @@ std::string MissionNode::statusLine() const {
   std::vector<double> plan = plan_ms_;
   const double plan_ms = plan.empty() ? NAN : plan.back();
   std::ostringstream os;
-  os << "t=" << fmt("%.1f", t) << " s  speed " << fmt("%.2f", speed_) << " m/s  goal "
+  os << "t=" << fmt("%.1f", t) << " s  speed " << fmt("%.2f", speed_) << " m/s  "
+     << (loop_ ? "lap " + std::to_string(laps_ + 1) + " " : std::string()) << "goal "
      << std::min(current_ + 1, goals_.size()) << "/" << goals_.size() << " at " << dist
      << "  tracked " << tracked_ << "  plan " << fmt("%.2f ms", plan_ms) << "  collisions "
      << collisions_;
@@ -181,8 +193,11 @@ std::string MissionNode::statusLine() const {
 
 MissionSummary MissionNode::summary() const {
   MissionSummary s;
-  s.goals_total = static_cast<int>(goals_.size());
-  s.goals_reached = static_cast<int>(current_);
+  s.loop = loop_;
+  s.laps = laps_;
+  s.goals_reached = reached_total_;
+  // In a loop, the goals driven so far and the one under way.
+  s.goals_total = loop_ ? reached_total_ + 1 : static_cast<int>(goals_.size());
   s.sim_time_s = first_utime_ ? (now_ - first_utime_) * 1e-6 : 0.0;
   if (reached_all_utime_) s.time_to_goals_s = (reached_all_utime_ - first_utime_) * 1e-6;
   s.collisions = collisions_;
@@ -201,8 +216,8 @@ std::string MissionNode::format(const MissionSummary& s, const std::string& end_
   std::ostringstream os;
   os << "=== run summary (" << end_reason << ") ===\n";
   os << "goals reached      " << s.goals_reached << " / " << s.goals_total
-     << (std::isfinite(s.time_to_goals_s) ? " in " + fmt("%.1f", s.time_to_goals_s) + " s" : "")
-     << "\n";
+     << (std::isfinite(s.time_to_goals_s) && !s.loop ? " in " + fmt("%.1f", s.time_to_goals_s) + " s" : "")
+     << (s.loop ? ", " + std::to_string(s.laps) + " lap(s) (loop)" : std::string()) << "\n";
   os << "collisions         " << s.collisions << "\n";
   os << "min clearance      " << fmt("%.2f m", s.min_clearance_m) << "\n";
   os << "mean speed         " << fmt("%.2f m/s", s.mean_speed) << " over " << fmt("%.1f m", s.path_length_m)
@@ -228,6 +243,7 @@ std::string MissionNode::toJson(const MissionSummary& s, const std::string& end_
   std::ostringstream os;
   os << "{\"end_reason\": \"" << end_reason << "\", \"success\": " << (s.success() ? "true" : "false")
      << ", \"goals_total\": " << s.goals_total << ", \"goals_reached\": " << s.goals_reached
+     << ", \"loop\": " << (s.loop ? "true" : "false") << ", \"laps\": " << s.laps
      << ", \"sim_time_s\": " << jsonNumber(s.sim_time_s)
      << ", \"time_to_goals_s\": " << jsonNumber(s.time_to_goals_s) << ", \"collisions\": " << s.collisions
      << ", \"min_clearance_m\": " << jsonNumber(s.min_clearance_m)

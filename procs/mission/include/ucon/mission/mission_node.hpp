@@ -57,14 +57,22 @@ struct MissionSummary {
   double planning_ms_median = NAN; ///< median of the planner's reported per-plan median [ms]
   std::map<std::string, double> cpu_percent;  ///< mean CPU per process [% of one core]
   std::map<std::string, double> rss_mb;       ///< last RSS per process [MiB]
-  bool success() const { return goals_reached == goals_total && collisions == 0; }
+  bool loop = false;               ///< the goals were driven in a loop (see MissionNode)
+  int laps = 0;                    ///< loops completed: every goal and back to the start
+  /// Without a loop: every goal reached, no collision. In a loop: at least one lap, no collision.
+  bool success() const {
+    return collisions == 0 && (loop ? laps >= 1 : goals_reached == goals_total);
+  }
 };
 
 class MissionNode {
  public:
   /// `goals` in the world frame [m]; `duration_s` > 0 ends the run after that much simulated
-  /// time, 0 = run until all goals are reached.
-  MissionNode(const MissionParams& params, std::vector<Eigen::Vector2d> goals, double duration_s);
+  /// time, 0 = run until all goals are reached. With `loop`, after the last goal the robot is
+  /// sent back to where it was first seen, then through the goals again, lap after lap, until
+  /// the duration (0 = until stopped): a long run that keeps every process busy.
+  MissionNode(const MissionParams& params, std::vector<Eigen::Vector2d> goals, double duration_s,
+              bool loop = false);
 
   /// Advances time; returns a goal to publish when one is due (first, next, or re-send).
   std::optional<nav_goal_t> onPose(const robot_pose_t& pose);
@@ -74,6 +82,7 @@ class MissionNode {
   void onProcStatus(const supervisor_status_t& status);
 
   /// True once all goals were reached (and settled) or the duration has passed.
+  /// A loop ends only at the duration.
   bool done() const { return done_; }
   /// Why the run ended ("all goals reached", "duration reached"), empty while running.
   const std::string& endReason() const { return end_reason_; }
@@ -92,6 +101,9 @@ class MissionNode {
   MissionParams params_;
   std::vector<Eigen::Vector2d> goals_;
   double duration_s_;
+  bool loop_;
+  int laps_ = 0;
+  int reached_total_ = 0;  // goals reached over all laps
   std::size_t current_ = 0;
   int64_t first_utime_ = 0;
   int64_t now_ = 0;
