@@ -101,19 +101,22 @@ freeze() {  # case process seconds_before_status
   T_STOP[$c]=$(wall_us)
   kill -STOP "$pid"
   sleep "$3"
+  local t_status
+  t_status=$(wall_us)
   STATUS_OUT[$c]=$("$UCON" status 2>&1)
   T_CONT[$c]=$(wall_us)
   kill -CONT "$pid"
-  echo "case $c: $proc stopped for $(( (T_CONT[$c] - T_STOP[$c]) / 1000 )) ms"
+  echo "case $c: $proc stopped for $(( (T_CONT[$c] - T_STOP[$c]) / 1000 )) ms (deploy/ucon status took $(( (T_CONT[$c] - t_status) / 1000 )) ms)"
 }
 freeze a planner 1.8
-sleep 4
+sleep 3
 freeze b perception 2.2
-sleep 4
+sleep 3
 freeze c odometry 1.8
-sleep 6
+sleep 5
 status_end=$("$UCON" status 2>&1)
 "$UCON" stop --grace 3 >/dev/null 2>&1
+echo "run done after $(( $(date +%s) - t_begin )) s"
 
 # ---- Read the log.
 log=$(ls -t "$tmp/logs"/*.lcm 2>/dev/null | head -1)
@@ -130,7 +133,7 @@ log=$(ls -t "$tmp/logs"/*.lcm 2>/dev/null | head -1)
         rec = rec k "=" v "\t"
     }
     END { flush() }' >"$tmp/events.tsv"
-echo "log: $(wc -l <"$tmp/events.tsv") messages of interest"
+echo "log: $(wc -l <"$tmp/events.tsv") messages of interest (read after $(( $(date +%s) - t_begin )) s)"
 
 # field NAME from a line of events.tsv
 ev() { awk -F'\t' -v ch="$1" -v lo="$2" -v hi="$3" '$1 == ch && $2 >= lo && $2 < hi' "$tmp/events.tsv"; }
