@@ -24,6 +24,14 @@ BaseControllerParams shippedParams() {
   return p ? *p : BaseControllerParams{};
 }
 
+int64_t counterOf(const ucon::base_controller::BaseController& c, const std::string& name) {
+  for (const auto& [n, v] : c.counters()) {
+    if (n == name) return v;
+  }
+  ADD_FAILURE() << "no counter " << name;
+  return -1;
+}
+
 bool allZero(const ucon::wheel_cmd_t& c) {
   return c.w_fl == 0.0 && c.w_fr == 0.0 && c.w_rl == 0.0 && c.w_rr == 0.0;
 }
@@ -122,6 +130,9 @@ TEST(BaseControllerWatchdog, GivenPoseStreamStopsWhenTrackingThenWheelsZeroWithi
   r.step();
   EXPECT_EQ(r.loop.ctrl.state(), base_status_t::STATE_STOPPED);
   EXPECT_FALSE(r.last_cmd.enable);  // at rest: motors braked
+  // The stop is counted by its cause on the process status, once.
+  EXPECT_EQ(counterOf(r.loop.ctrl, "stops_pose_stale"), 1);
+  EXPECT_EQ(counterOf(r.loop.ctrl, "stops_trajectory_stale"), 0);
   std::printf("pose lost at %.1f m/s: zero command %.0f ms after the last pose (200 ms + %.0f ms deceleration)\n",
               v_at_trigger, (zero_at - last_pose) * 1e-3, decel_time * 1e3);
 }
@@ -156,9 +167,25 @@ TEST(BaseControllerWatchdog, GivenTrajectoryStreamStopsThenStopsWithReason) {
   Running r(p);
   r.run(3.0);
   r.publish_plan = false;
+  const int64_t last_plan = r.next_plan - 100000;
+  const double v0 = r.cmdSpeed();
   const int64_t zero_at = stepUntilStopped(r, p, 2.0);
   ASSERT_GE(zero_at, 0);
   EXPECT_NE(r.loop.ctrl.reason().find("trajectory stale"), std::string::npos) << r.loop.ctrl.reason();
+  // The bound docs/robot.md states: timeout + one period + the longest ramp the limits allow.
+  const double bound = p.watchdog.trajectory_timeout_s + 1.0 / p.control.rate_hz +
+                       std::max(p.control.max_speed / p.watchdog.stop_linear_decel,
+                                p.control.max_yaw_rate / p.watchdog.stop_angular_decel);
+  EXPECT_LE((zero_at - last_plan) * 1e-6, bound);
+  // ... and the tighter one for the speed it had: timeout + period + (speed + the rise
+  // during the timeout) / decel.
+  EXPECT_LE((zero_at - last_plan) * 1e-6,
+            p.watchdog.trajectory_timeout_s + 1.0 / p.control.rate_hz +
+                (v0 + p.control.max_linear_accel * p.watchdog.trajectory_timeout_s) / p.watchdog.stop_linear_decel);
+  EXPECT_EQ(counterOf(r.loop.ctrl, "stops_trajectory_stale"), 1);
+  EXPECT_EQ(counterOf(r.loop.ctrl, "stops_pose_stale"), 0);
+  r.run(1.0);  // staying stopped is not another stop
+  EXPECT_EQ(counterOf(r.loop.ctrl, "stops_trajectory_stale"), 1);
 }
 
 TEST(BaseControllerWatchdog, GivenPlanExpiresThenStopsWithReasonExpired) {
@@ -300,6 +327,7 @@ TEST(BaseControllerEstop, GivenEstopThenDeceleratesToZeroAndResumesOnlyAfterRele
   r.publish_plan = true;
   r.run(0.05);
   EXPECT_EQ(r.loop.ctrl.state(), base_status_t::STATE_TRACKING) << r.loop.ctrl.reason();
+  EXPECT_EQ(counterOf(r.loop.ctrl, "stops_estop"), 1);
 }
 
 TEST(BaseControllerEstop, GivenABadPlanDuringTheEstopThenTheEstopStaysShownAndTheRejectionHoldsAfterRelease) {

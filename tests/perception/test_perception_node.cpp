@@ -350,6 +350,8 @@ TEST(PerceptionNode, GivenNoFramesForLongerThanTheTimeoutThenTickPublishesAnInva
   ASSERT_TRUE(out.objects);
   EXPECT_FALSE(out.objects->valid);
   EXPECT_FALSE(node.tick(scene::frameTime(12)).objects);  // once per timeout
+  EXPECT_EQ(node.status().counter("lidar_timeouts"), 1);  // counted on PERCEPTION_STATUS
+  EXPECT_EQ(node.status().counter("invalid_outputs"), 1);
 }
 
 TEST(PerceptionNode, GivenTheSameInputTwiceThenOutputsAreByteIdentical) {

@@ -312,6 +312,37 @@ TEST(PlannerNode, GivenStaleObstaclesThenItStops) {
   EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
 }
 
+TEST(PlannerNode, GivenThePoseStopsWhilePerceptionSendsInvalidFramesThenItStopsAndSaysSoWithinThePoseTimeout) {
+  // The pose source stalls: perception keeps publishing, every frame marked invalid ("ROBOT_POSE
+  // stale"), and nothing else arrives. Those frames' times are the planner's only clock: if it
+  // ignored them, "now" would stay at the last pose and the planner would never notice.
+  Fixture f;
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 5.0, 0.0));
+  ASSERT_EQ(f.node->tick(kT0).trajectory->status, trajectory_t::STATUS_OK);
+  const int64_t period = int64_t(std::llround(1e6 / f.params.rate_hz));
+  const int64_t timeout = int64_t(std::llround(f.params.pose_timeout_s * 1e6));
+  int64_t stop_at = -1;
+  for (int64_t t = kT0 + 100'000; t <= kT0 + 2'000'000 && stop_at < 0; t += 100'000) {
+    tracked_objects_t m = objects(t);
+    m.valid = false;
+    f.node->onObjects(m);
+    // As the process ticks it (binding.hpp): at the node's own "now", the newest input time.
+    const auto out = f.node->tick(f.node->clock().now());
+    if (out.plan && out.plan->result == PlanResult::kStopNoPose) {
+      stop_at = t;
+      ASSERT_TRUE(out.trajectory);
+      EXPECT_EQ(out.trajectory->status, trajectory_t::STATUS_STOP);
+      EXPECT_NE(out.plan->message.find("no valid pose"), std::string::npos) << out.plan->message;
+    }
+  }
+  ASSERT_GT(stop_at, 0) << "the planner never noticed that the pose stopped";
+  EXPECT_LE(stop_at - kT0, timeout + period);
+  EXPECT_EQ(f.report.counter("result_stop_no_pose"), 1);
+  EXPECT_GE(f.report.counter("objects_msgs_rejected"), 1);
+  EXPECT_EQ(f.report.build(stop_at, 0).health, process_status_t::HEALTH_ERROR);
+}
+
 TEST(PlannerNode, GivenObjectFramesOlderThanTheLatestPoseThenTheyAreUsedNotDroppedAsOutOfOrder) {
   // Perception stamps objects with the LiDAR frame's time; poses (100 Hz) are newer by the time
   // they arrive. Those frames are current, and the planner must keep planning with them.

@@ -64,7 +64,8 @@ BaseControllerOutput BaseController::onEstop(const ucon::estop_t& estop) {
     estop_ = true;
     estop_source_ = trimmed(estop.source, 64);
     if (state_ != base_status_t::STATE_ESTOP) {
-      enterStop(base_status_t::STATE_ESTOP, "e-stop engaged by '" + estop_source_ + "'", clock_.now());
+      enterStop(base_status_t::STATE_ESTOP, "e-stop engaged by '" + estop_source_ + "'", StopCause::kEstop,
+                clock_.now());
     }
   } else {
     if (estop.utime <= 0) return {};  // a release must be a well-formed message
@@ -83,7 +84,8 @@ BaseControllerOutput BaseController::onTrajectory(const ucon::trajectory_t& msg)
     ++n_.trajectories_rejected;
     have_traj_ = false;
     input_fault_ = "trajectory rejected: " + why;
-    if (!estop_) enterStop(base_status_t::STATE_STOPPING, input_fault_, clock_.now());  // E-stop stays shown
+    input_fault_cause_ = StopCause::kTrajectoryRejected;
+    if (!estop_) enterStop(base_status_t::STATE_STOPPING, input_fault_, input_fault_cause_, clock_.now());  // E-stop stays shown
     BaseControllerOutput out;
     out.status = buildStatus(clock_.now());
     return out;
@@ -101,7 +103,8 @@ BaseControllerOutput BaseController::onTrajectory(const ucon::trajectory_t& msg)
     ++n_.planner_invalid;
     have_traj_ = false;
     input_fault_ = "planner: invalid plan" + (msg.message.empty() ? "" : ": " + trimmed(msg.message, 120));
-    if (!estop_) enterStop(base_status_t::STATE_STOPPING, input_fault_, now);
+    input_fault_cause_ = StopCause::kPlannerInvalid;
+    if (!estop_) enterStop(base_status_t::STATE_STOPPING, input_fault_, input_fault_cause_, now);
     BaseControllerOutput out;
     out.status = buildStatus(now);
     return out;
@@ -141,14 +144,19 @@ BaseControllerOutput BaseController::onTrajectory(const ucon::trajectory_t& msg)
 
 BaseController::Decision BaseController::evaluate(int64_t now) {
   const WatchdogParams& w = params_.watchdog;
-  if (estop_) return {Decision::kFault, base_status_t::STATE_ESTOP, "e-stop engaged by '" + estop_source_ + "'"};
-  if (!input_fault_.empty()) return {Decision::kFault, base_status_t::STATE_STOPPING, input_fault_};
+  constexpr int8_t kStopping = base_status_t::STATE_STOPPING;
+  if (estop_) {
+    return {Decision::kFault, base_status_t::STATE_ESTOP, "e-stop engaged by '" + estop_source_ + "'", StopCause::kEstop};
+  }
+  if (!input_fault_.empty()) return {Decision::kFault, kStopping, input_fault_, input_fault_cause_};
   if (!have_traj_) return {Decision::kIdle, base_status_t::STATE_IDLE, idle_reason_};
-  if (!pose_) return {Decision::kFault, base_status_t::STATE_STOPPING, "watchdog: no pose received"};
-  if (pose_invalid_) return {Decision::kFault, base_status_t::STATE_STOPPING, "pose invalid (the pose source is not localised)"};
+  if (!pose_) return {Decision::kFault, kStopping, "watchdog: no pose received", StopCause::kNoPose};
+  if (pose_invalid_) {
+    return {Decision::kFault, kStopping, "pose invalid (the pose source is not localised)", StopCause::kPoseInvalid};
+  }
   // Ages compared in whole microseconds so that "200 ms" means exactly 200000 us.
   if (now - pose_->utime >= std::llround(w.pose_timeout_s * 1e6)) {
-    return {Decision::kFault, base_status_t::STATE_STOPPING, "watchdog: pose stale"};
+    return {Decision::kFault, kStopping, "watchdog: pose stale", StopCause::kPoseStale};
   }
   const bool final_plan = traj_status_ != ucon::trajectory_t::STATUS_OK;
   if (now - traj_msg_utime_ >= std::llround(w.trajectory_timeout_s * 1e6)) {
@@ -158,16 +166,17 @@ BaseController::Decision BaseController::evaluate(int64_t now) {
                                                                              : "stop plan ended";
       return {Decision::kIdle, base_status_t::STATE_IDLE, idle_reason_};
     }
-    return {Decision::kFault, base_status_t::STATE_STOPPING, "watchdog: trajectory stale"};
+    return {Decision::kFault, kStopping, "watchdog: trajectory stale", StopCause::kTrajectoryStale};
   }
   if (!final_plan && now > traj_.endUtime()) {
-    return {Decision::kFault, base_status_t::STATE_STOPPING, "trajectory expired"};
+    return {Decision::kFault, kStopping, "trajectory expired", StopCause::kTrajectoryExpired};
   }
   return {Decision::kTrack, base_status_t::STATE_TRACKING, {}};
 }
 
-void BaseController::enterStop(int8_t state, const std::string& reason, int64_t now) {
+void BaseController::enterStop(int8_t state, const std::string& reason, StopCause cause, int64_t now) {
   if (state_ == base_status_t::STATE_TRACKING) ++n_.stops_while_tracking;
+  if (cause != StopCause::kCount) ++n_.stops[static_cast<int>(cause)];
   startRamp(now);
   state_ = state;
   reason_ = reason;
@@ -300,7 +309,7 @@ BaseControllerOutput BaseController::tick(int64_t utime) {
   if (d.kind == Decision::kFault) {
     if (!isFaultState(state_) || fault_cause_ != d.reason ||
         (d.state == base_status_t::STATE_ESTOP) != (state_ == base_status_t::STATE_ESTOP)) {
-      enterStop(d.state, d.reason, now);
+      enterStop(d.state, d.reason, d.cause, now);
     }
   } else if (d.kind == Decision::kIdle) {
     if (state_ != base_status_t::STATE_IDLE) {
@@ -339,7 +348,8 @@ BaseControllerOutput BaseController::tick(int64_t utime) {
       ++n_.trajectories_rejected;
       have_traj_ = false;
       input_fault_ = "trajectory rejected: " + (bad.empty() ? std::string("command not finite") : bad);
-      enterStop(base_status_t::STATE_STOPPING, input_fault_, now);
+      input_fault_cause_ = StopCause::kTrajectoryRejected;
+      enterStop(base_status_t::STATE_STOPPING, input_fault_, input_fault_cause_, now);
       saturation_ = 1.0;
       tracking_error_ = kNaN;
       twist = stoppingTwist(now, period);
@@ -410,8 +420,23 @@ ucon::base_status_t BaseController::buildStatus(int64_t now) {
   return s;
 }
 
+const char* BaseController::counterName(StopCause c) {
+  switch (c) {
+    case StopCause::kPoseStale: return "stops_pose_stale";
+    case StopCause::kNoPose: return "stops_no_pose";
+    case StopCause::kPoseInvalid: return "stops_pose_invalid";
+    case StopCause::kTrajectoryStale: return "stops_trajectory_stale";
+    case StopCause::kTrajectoryExpired: return "stops_trajectory_expired";
+    case StopCause::kTrajectoryRejected: return "stops_trajectory_rejected";
+    case StopCause::kPlannerInvalid: return "stops_planner_invalid";
+    case StopCause::kEstop: return "stops_estop";
+    case StopCause::kCount: break;
+  }
+  return "stops_other";
+}
+
 std::vector<std::pair<std::string, int64_t>> BaseController::counters() const {
-  return {{"poses_in", n_.poses_in},
+  std::vector<std::pair<std::string, int64_t>> out = {{"poses_in", n_.poses_in},
           {"poses_bad", n_.poses_bad},
           {"trajectories_in", n_.trajectories_in},
           {"trajectories_rejected", n_.trajectories_rejected},
@@ -422,6 +447,11 @@ std::vector<std::pair<std::string, int64_t>> BaseController::counters() const {
           {"saturated_ticks", n_.saturated_ticks},
           {"stops_while_tracking", n_.stops_while_tracking},
           {"messages_older", n_.messages_older}};
+  // The watchdog's and the input checks' stops by cause (BASE_STATUS has the current one only).
+  for (int c = 0; c < static_cast<int>(StopCause::kCount); ++c) {
+    out.emplace_back(counterName(static_cast<StopCause>(c)), n_.stops[c]);
+  }
+  return out;
 }
 
 }  // namespace base_controller

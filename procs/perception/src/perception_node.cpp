@@ -69,7 +69,8 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
   // Counters exist from the start so the status always lists them.
   for (const char* c : {"frames_in", "frames_processed", "frames_repeated", "frames_out_of_order",
                         "frames_bad_utime", "frames_malformed", "frames_bad_frame_id", "frames_empty",
-                        "frames_no_pose", "frames_stale_pose", "frames_pose_extrapolated", "points_in", "points_non_finite",
+                        "frames_no_pose", "frames_stale_pose", "frames_pose_extrapolated", "lidar_timeouts",
+                        "points_in", "points_non_finite",
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
                         "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
@@ -109,6 +110,7 @@ PerceptionOutput PerceptionNode::tick(int64_t utime) {
   if (utime <= 0) return {};
   const int64_t last = std::max(last_frame_utime_, last_output_utime_);
   if (utime - last <= static_cast<int64_t>(params_.frame_timeout * 1e6)) return {};
+  status_.count("lidar_timeouts");  // LIDAR_POINTS stale: one per frame_timeout without a frame
   return invalidOutput(utime, -1, "no LiDAR frame for more than frame_timeout");
 }
 

@@ -64,6 +64,12 @@ void PlannerNode::onObjects(const tracked_objects_t& msg) {
       msg.objects.size() != std::size_t(msg.num_objects)) {
     // Not trusted: the previous obstacles age out and the planner stops (safety first).
     report_.count("objects_msgs_rejected");
+    // A well-formed message marked invalid (perception without a fresh pose) still tells the
+    // time: without it a planner whose pose stopped would have no "now" to see that by.
+    if (!msg.valid && msg.utime > 0 && msg.num_objects >= 0 &&
+        msg.objects.size() == std::size_t(msg.num_objects)) {
+      clock_.observe(msg.utime);
+    }
     return;
   }
   // Object frames carry their LiDAR frame's time, which is older than the poses that arrive

@@ -83,10 +83,25 @@ class BaseController {
   const BaseControllerParams& params() const { return params_; }
 
  private:
+  /// Why a stop began; each has a counter "stops_<name>" on the process status.
+  enum class StopCause {
+    kPoseStale,
+    kNoPose,
+    kPoseInvalid,
+    kTrajectoryStale,
+    kTrajectoryExpired,
+    kTrajectoryRejected,
+    kPlannerInvalid,
+    kEstop,
+    kCount
+  };
+  static const char* counterName(StopCause c);
+
   struct Counters {
     int64_t poses_in = 0, poses_bad = 0, trajectories_in = 0, trajectories_rejected = 0,
             trajectories_out_of_order = 0, planner_invalid = 0, estops_in = 0, ticks = 0,
             saturated_ticks = 0, stops_while_tracking = 0, messages_older = 0;
+    int64_t stops[static_cast<int>(StopCause::kCount)] = {};  ///< stops begun, by cause
   };
   struct Twist {
     double vx = 0.0, vy = 0.0, wz = 0.0;  // body frame [m/s, m/s, rad/s]
@@ -96,6 +111,7 @@ class BaseController {
     enum Kind { kTrack, kIdle, kFault } kind;
     int8_t state;        // base_status_t::STATE_* to report
     std::string reason;  // why (empty when tracking)
+    StopCause cause = StopCause::kCount;  // kFault: what it counts as
   };
 
   /// What the inputs allow at `now` (may drop a finished final plan).
@@ -104,7 +120,7 @@ class BaseController {
   std::optional<Twist> trackingTwist(int64_t now, std::string* bad);
   Twist rateLimited(const Twist& want, double dt) const;
   Twist stoppingTwist(int64_t now, double period) const;
-  void enterStop(int8_t state, const std::string& reason, int64_t now);
+  void enterStop(int8_t state, const std::string& reason, StopCause cause, int64_t now);
   void startRamp(int64_t now);
   ucon::base_status_t buildStatus(int64_t now);
   ucon::wheel_cmd_t buildWheelCmd(int64_t now, const mecanum::WheelSpeeds& w, bool enable,
@@ -125,6 +141,7 @@ class BaseController {
   int8_t traj_status_ = 0;
   double traj_yaw_ = 0.0;           // NaN = controller's choice
   std::string input_fault_;         // set by a rejected/invalid plan until a valid one arrives
+  StopCause input_fault_cause_ = StopCause::kTrajectoryRejected;
   std::string idle_reason_ = "no trajectory";
   int64_t plans_accepted_ = 0;      // plans (or plan-less stop/goal messages) accepted so far
   bool estop_ = false;
