@@ -191,7 +191,6 @@ int main(int argc, char** argv) {
   // The model each variant runs, as its planner.yaml says (the default's name too).
   std::vector<std::string> model_names;
   for (const auto& v : variants) {
-    ucon::planner::PlannerParams pp;
     std::vector<ucon::ConfigError> errors;
     auto p = ucon::loadParams<ucon::planner::PlannerParams>(v.node_yaml.at("planner"), "planner.yaml", &errors);
     model_names.push_back(p ? ucon::trajopt::toString(p->optimizer.obstacle_model) : "?");
