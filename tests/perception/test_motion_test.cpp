@@ -65,3 +65,20 @@ TEST(MotionTest, GivenNewSurfaceWhereTheReferenceSawSomethingAtTheSameRangeAndPa
   // (8 m): someone standing at 5 m now (a follower in the leader's footsteps) moved.
   EXPECT_TRUE(movedAgainst({along(8.0f), along(5.25f, 0.8f)}, along(5.0f)));
 }
+
+TEST(MotionTest, GivenNewSurfaceInAnUnseenBinBesideBinsThatSawASurfaceThereThenItIsNoEvidenceOfMotion) {
+  // The reference has no return in the point's own bin (the sparse scan missed it), but the
+  // bins beside it saw a wall at the point's range: the point is that wall, sampled now.
+  EXPECT_FALSE(movedAgainst({along(8.0f, 1.5f), along(8.1f, -0.5f)}, along(8.0f)));
+}
+
+TEST(MotionTest, GivenNewSurfaceInAnUnseenBinBesideBinsThatSawPastItThenItMoved) {
+  // The bins beside it saw only a wall 8 m away: the space at 5 m was free, something moved in.
+  EXPECT_TRUE(movedAgainst({along(8.0f, 1.5f), along(8.0f, -0.5f)}, along(5.0f)));
+}
+
+TEST(MotionTest, GivenNewSurfaceWhereNoReferenceBinAroundItSawAnythingThenItMoved) {
+  // Open space: nothing was seen within a bin of the point (only far off to the side).
+  EXPECT_TRUE(movedAgainst({along(8.0f, 10.5f)}, along(5.0f)));
+}
+

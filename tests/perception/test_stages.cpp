@@ -1,3 +1,4 @@
+#include <algorithm>
 // The pipeline's stages on hand-made inputs: angular bins, the measurement of a merged
 // cluster, point-level recovery and its conflicts with object-level matches, and the track
 // lifecycle.
@@ -42,6 +43,23 @@ TEST(AngularGrid, GivenDirectionsThenBinsFollowAzimuthAndElevationAndClampAtTheP
   EXPECT_EQ(g.bin(Eigen::Vector3f(std::cos(a), std::sin(a), 0)), 91 * 90 + 45);
   // Straight up: the last elevation bin (clamped), whatever the azimuth.
   EXPECT_EQ(g.bin(Eigen::Vector3f(0, 0, 1)) % 90, 89);
+}
+
+TEST(AngularGrid, GivenABinThenItsNeighboursWrapInAzimuthAndStopAtThePoles) {
+  const AngularGrid g(2.0);
+  int nb[8];
+  // Inside the grid: the 8 bins around.
+  ASSERT_EQ(g.neighbours(90 * 90 + 45, nb), 8);
+  std::vector<int> got(nb, nb + 8);
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, (std::vector<int>{89 * 90 + 44, 89 * 90 + 45, 89 * 90 + 46, 90 * 90 + 44, 90 * 90 + 46, 91 * 90 + 44,
+                                   91 * 90 + 45, 91 * 90 + 46}));
+  // Azimuth bin 0 borders the last azimuth bin (the circle closes).
+  ASSERT_EQ(g.neighbours(0 * 90 + 45, nb), 8);
+  got.assign(nb, nb + 8);
+  EXPECT_NE(std::find(got.begin(), got.end(), 179 * 90 + 45), got.end());
+  // The top elevation bin has no bins above it.
+  EXPECT_EQ(g.neighbours(10 * 90 + 89, nb), 5);
 }
 
 TEST(RestrictToTrack, GivenAClusterMergedWithAPillarThenOnlyTheMovedPointsInThePredictedBoxMeasureTheTrack) {

@@ -57,7 +57,7 @@ bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const 
   //    them: what stood in front of the point then has gone (an object moving away; its new
   //    surface lies behind its old one, where the reference could not look).
   // Parallax from the robot's own motion fails both: the occluder is still there.
-  // A direction no reference chunk looked in counts as moved (nothing was known to be there).
+  // A bin no reference chunk has a return in is judged by the bins around it (unseenMoved).
   // The vanishing test needs every chunk to have stopped short of the point: one ray of the
   // window passing beside a nearer edge in the same bin makes the bin ambiguous.
   // "Saw past it" also needs no return of the bin clearly in front of the point: a bin holds
@@ -85,7 +85,7 @@ bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const 
     if (best == nullptr || seen - range > best_seen - best_range) best = c, best_seen = seen, best_range = range;
   }
   if (mixed) return false;
-  if (best == nullptr) return true;
+  if (best == nullptr) return unseenMoved(p);
   if (best_seen >= best_range - margin) return false;
   // The gap bounds how far the object moved; a larger one is more likely structure revealed
   // by a mover that passed in front of it.
@@ -93,6 +93,31 @@ bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const 
   const Eigen::Vector3f q = best->origin + (p - best->origin) * (best_seen / best_range) - frame.sensor_origin;
   const float now = frame.nearest_fine[static_cast<std::size_t>(grid_.bin(q))];
   return std::isfinite(now) && now > q.norm() + margin;
+}
+
+// No reference chunk had a return in the point's own bin. The scan is sparse (a Mid-360 puts
+// about one return per 1-degree bin in 0.1 s, fewer towards the edge of its field of view, and
+// its pattern turns with the sensor), so that is often a gap in the sampling, not a direction
+// nobody looked in: the bins around it decide. A neighbour bin with a return at or before the
+// point's range (within the margin) saw a surface there or in front of it: structure sampled
+// around the point (a wall seen at a grazing angle comes nearer from bin to bin), no evidence
+// of motion. Neighbours that saw only beyond the point (the space was free: an object moved
+// in), or nothing at all (open space: nothing to compare with), leave the point moved, as an
+// unseen direction always was.
+bool MotionTest::unseenMoved(const Eigen::Vector3f& p) const {
+  const float margin = static_cast<float>(params_.free_space_margin);
+  int around[8];
+  for (const HistoryChunk* c : ref_chunks_) {
+    const Eigen::Vector3f ray = p - c->origin;
+    const float range = ray.norm();
+    if (!(range > 0.0f)) continue;
+    const int n = grid_.neighbours(grid_.bin(ray), around);
+    for (int k = 0; k < n; ++k) {
+      const auto b = static_cast<std::size_t>(around[k]);
+      if (c->max_range[b] > 0.0f && c->min_range[b] < range + margin) return false;
+    }
+  }
+  return true;
 }
 
 void MotionTest::push(const Frame& frame, const std::vector<char>& tracked_point) {

@@ -43,6 +43,20 @@ class AngularGrid {
   /// Bin of a direction (need not be normalised).
   int bin(const Eigen::Vector3f& d) const { return bin(anglesOf(d)); }
 
+  /// The up to 8 bins around `bin` (azimuth wraps around, elevation ends at the poles), written
+  /// to `out`; returns how many.
+  int neighbours(int bin, int out[8]) const {
+    const int i = bin / n_el_, j = bin % n_el_;
+    int n = 0;
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj) {
+        const int jj = j + dj;
+        if ((di == 0 && dj == 0) || jj < 0 || jj >= n_el_) continue;
+        out[n++] = ((i + di + n_az_) % n_az_) * n_el_ + jj;
+      }
+    return n;
+  }
+
   int azimuthBins() const { return n_az_; }
   int elevationBins() const { return n_el_; }
   int size() const { return n_az_ * n_el_; }

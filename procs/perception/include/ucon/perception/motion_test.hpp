@@ -59,6 +59,7 @@ class MotionTest {
     std::vector<float> min_range;  ///< nearest return per angular bin seen from origin [m]; inf = none
   };
   bool pointMoved(const Frame& frame, const Eigen::Vector3f& p) const;
+  bool unseenMoved(const Eigen::Vector3f& p) const;
 
   SegmentationParams params_;
   AngularGrid grid_;
