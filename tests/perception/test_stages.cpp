@@ -194,7 +194,7 @@ int64_t confirmWalker(TrackManager* tm, ucon::StatusReport* status, const Angula
   for (int k = 1; k <= 10; ++k) {
     const int64_t t = t0 + k * dt;
     tm->predict(t, *status);
-    tm->update(0, measurementAt(3.0 + 0.12 * k, 0.0), t, TO::ASSOC_OBJECT, true, *status);
+    tm->update(0, measurementAt(3.0 + 0.12 * k, 0.0), t, TO::ASSOC_OBJECT, true, false, *status);
     tm->manage(t, {1}, f, *status);
     if (tm->tracks()[0].state == TO::STATE_CONFIRMED) return t;
   }
@@ -215,6 +215,30 @@ TEST(TrackManager, GivenAWalkerMeasuredEachFrameThenItsTrackIsConfirmedAfterConf
   EXPECT_NEAR(tm.tracks()[0].kf.state()(3), 1.2, 0.4);
   EXPECT_TRUE(tm.nearTrack(tm.tracks()[0].kf.state().head<2>() + Eigen::Vector2d(0.5, 0.0)));  // within 0.7 m
   EXPECT_FALSE(tm.nearTrack(tm.tracks()[0].kf.state().head<2>() + Eigen::Vector2d(0.8, 0.0)));
+}
+
+TEST(TrackManager, GivenATrackMeasuredOnOldStructureForStructureFramesInARowThenItIsDeleted) {
+  const PerceptionParams p;  // structure_frames 5
+  const AngularGrid coarse(p.tracks.free_bin_deg);
+  for (const bool broken : {false, true}) {
+    TrackManager tm(p, coarse);
+    ucon::StatusReport status("test");
+    int64_t t = confirmWalker(&tm, &status, coarse);
+    ASSERT_GT(t, 0);
+    const Frame f = frameSeeing(3.0, coarse);
+    // Measurements on structure, with one that is not (the walker's own cells) in between when
+    // `broken`: only an unbroken run of structure_frames ends the track.
+    for (int k = 1; k <= p.tracks.structure_frames + 1; ++k) {
+      t += 100'000;
+      tm.predict(t, status);
+      const bool on_structure = !(broken && k == 3);
+      tm.update(0, measurementAt(3.4 + 0.12 * k, 0.0), t, TO::ASSOC_OBJECT, true, on_structure, status);
+      tm.manage(t, {1}, f, status);
+      if (tm.tracks().empty()) break;
+    }
+    EXPECT_EQ(tm.tracks().empty(), !broken) << (broken ? "broken run" : "unbroken run");
+    EXPECT_EQ(status.counter("tracks_on_structure"), broken ? 0 : 1);
+  }
 }
 
 TEST(TrackManager, GivenAnUnseenTrackTheSensorSeesThroughThenItIsDeletedAfterFreeFramesOtherwiseItCoasts) {

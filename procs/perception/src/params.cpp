@@ -87,6 +87,9 @@ void TrackParams::read(ConfigReader& r) {
   r.read("confirm_min_distance", confirm_min_distance, 0.0, 100.0);
   r.read("confirm_moving_hits", confirm_moving_hits, 0, 1000);
   r.read("max_stationary", max_stationary, 0.01, 1000.0);
+  r.read("structure_share", structure_share, 0.01, 1.0);
+  r.read("structure_margin", structure_margin, 0.0, 60.0);
+  r.read("structure_frames", structure_frames, 0, 1000);
   r.read("new_track_separation", new_track_separation, 0.0, 10.0);
   r.read("reid_speed", reid_speed, 0.0, 50.0);
   r.read("reid_margin", reid_margin, 0.0, 20.0);

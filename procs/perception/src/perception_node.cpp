@@ -106,6 +106,22 @@ PerceptionOutput PerceptionNode::invalidOutput(int64_t utime, int64_t frame_seq,
   return out;
 }
 
+bool PerceptionNode::onStructure(const std::vector<int>& points, int64_t since) const {
+  // The cells as of the previous frame (this frame's hits are recorded after the tracks'
+  // update), occupied without a gap since structure_margin before `since`: an object holds a
+  // cell for a moment as it walks over it, and was already standing where its track started.
+  const TrackParams& p = params_.tracks;
+  if (p.structure_frames <= 0 || points.empty()) return false;
+  const int64_t before = since - static_cast<int64_t>(p.structure_margin * 1e6);
+  std::size_t old = 0;
+  for (int i : points) {
+    const Eigen::Vector3f& q = frame_.points[static_cast<std::size_t>(i)];
+    const int64_t t = persistence_.occupiedSince(q.x(), q.y(), frame_.utime);
+    old += t != CellAge::kNever && t < before ? 1 : 0;
+  }
+  return static_cast<double>(old) >= p.structure_share * static_cast<double>(points.size());
+}
+
 PerceptionOutput PerceptionNode::tick(int64_t utime) {
   if (utime <= 0) return {};
   const int64_t last = std::max(last_frame_utime_, last_output_utime_);
@@ -194,7 +210,9 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   for (std::size_t j = 0; j < n_old_tracks; ++j) {
     if (a.how[j] == TO::ASSOC_NONE || a.points[j].empty()) continue;
     const Measurement m = measurer_.measure(frame_, a.points[j], tracks_.tracks()[j].width);
-    tracks_.update(j, m, utime, a.how[j], a.moving[j] != 0, status_);
+    const Track& tr = tracks_.tracks()[j];
+    const bool on_structure = tr.state != TO::STATE_TENTATIVE && onStructure(a.points[j], tr.created_utime);
+    tracks_.update(j, m, utime, a.how[j], a.moving[j] != 0, on_structure, status_);
     updated[j] = 1;
     for (int i : a.points[j]) a.tracked_point[i] = 1;
   }

@@ -73,8 +73,9 @@ std::vector<TrackView> TrackManager::views(int64_t utime) const {
 }
 
 void TrackManager::update(std::size_t j, const Measurement& m, int64_t utime, int8_t how, bool moving,
-                          StatusReport& status) {
+                          bool on_structure, StatusReport& status) {
   Track& t = tracks_[j];
+  t.structure_frames = on_structure ? t.structure_frames + 1 : 0;
   const TrackParams& p = params_;
   const int64_t baseline_us = static_cast<int64_t>(p.velocity_baseline * 1e6);
   // Differenced velocity against the newest measurement at least one baseline old (or the
@@ -245,6 +246,13 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
     // passing the motion test, or its filtered speed stays near zero. People pause for
     // shorter than max_stationary (and a longer pause is bridged by re-identification).
     if (tr.kf.state().segment<2>(3).norm() >= p.confirm_min_speed) tr.last_fast_utime = utime;
+    // A track that measures only what stood there before it existed has latched onto
+    // structure (a box a person walked past, merged into one cluster with the person when the
+    // track started): it ends at once, not after max_stationary.
+    if (p.structure_frames > 0 && tr.structure_frames >= p.structure_frames) {
+      tr.state = TO::STATE_DELETED;
+      status.count("tracks_on_structure");
+    }
     if (seconds(utime - tr.last_moving_utime) > p.max_stationary ||
         seconds(utime - std::max(tr.last_fast_utime, tr.created_utime)) > p.max_stationary)
       tr.state = TO::STATE_DELETED;

@@ -90,6 +90,10 @@ class PerceptionNode {
   void associate(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a);
   void recover(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a);
   void startTracks(const std::vector<int>& dynamic, Assignment* a);
+  /// Whether at least tracks.structure_share of these frame points lie on x-y cells occupied
+  /// without a gap since before `since` [us] (a track's creation): what the track measures
+  /// stood there before the track existed.
+  bool onStructure(const std::vector<int>& points, int64_t since) const;
   double elapsedMs(double since) const { return (stopwatch_() - since) * 1e3; }
 
   PerceptionParams params_;

@@ -32,6 +32,10 @@ class StaticPersistence {
   /// Frames must come in non-decreasing time; an earlier stamp resets the grid.
   void update(int64_t utime, const std::vector<Eigen::Vector3f>& points, std::vector<char>* persistent);
 
+  /// Since when the cell holding (x, y) [m] has been occupied without a gap, as of the frames
+  /// recorded so far [us]; CellAge::kNever when it is not occupied at `now` [us].
+  int64_t occupiedSince(double x, double y, int64_t now) const { return cells_.occupiedSince(x, y, now); }
+
   void reset();
 
  private:

@@ -44,6 +44,7 @@ struct Track {
   int moving_hits = 0;          ///< measurements from clusters that passed the motion test
   int64_t last_moving_utime = 0;  ///< last such measurement
   int64_t last_fast_utime = 0;    ///< last frame its filtered speed reached confirm_min_speed
+  int structure_frames = 0;       ///< consecutive measurements lying on structure older than the track
   int num_points = 0;           ///< points of the latest measurement
   Eigen::Vector2d size = Eigen::Vector2d::Zero();  ///< smoothed x-y box size [m]
   double size_z = 0.0;          ///< smoothed z extent [m]
@@ -77,7 +78,9 @@ class TrackManager {
 
   /// Updates track `j` with measurement `m` at `utime`; `how` is tracked_object_t::ASSOC_*,
   /// `moving` whether the measured points passed the motion test.
-  void update(std::size_t j, const Measurement& m, int64_t utime, int8_t how, bool moving, StatusReport& status);
+  /// `on_structure`: the measurement lies on x-y cells occupied since before the track existed.
+  void update(std::size_t j, const Measurement& m, int64_t utime, int8_t how, bool moving, bool on_structure,
+              StatusReport& status);
 
   /// The lifecycle step of the tracks that existed before this frame (`updated`: per track,
   /// whether it was measured): confirmation, re-identification, coasting, negative evidence
