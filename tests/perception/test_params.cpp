@@ -57,6 +57,7 @@ std::string shippedText() {
   X(tracks.confirm_hits) X(tracks.confirm_min_speed) X(tracks.confirm_max_speed)                   \
   X(tracks.confirm_min_distance) X(tracks.confirm_moving_hits) X(tracks.max_stationary)            \
   X(tracks.structure_share) X(tracks.structure_margin) X(tracks.structure_frames)                  \
+  X(tracks.structure_arrival_distance)                                                             \
   X(tracks.new_track_separation) X(tracks.reid_speed) X(tracks.reid_margin) X(tracks.reid_window)  \
   X(tracks.reid_cross_speed) X(tracks.merge_margin) X(tracks.tentative_max_age)                    \
   X(tracks.tentative_max_misses) X(tracks.max_coast) X(tracks.coast_velocity_decay)                \

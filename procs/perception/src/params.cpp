@@ -89,6 +89,7 @@ void TrackParams::read(ConfigReader& r) {
   r.read("max_stationary", max_stationary, 0.01, 1000.0);
   r.read("structure_share", structure_share, 0.01, 1.0);
   r.read("structure_margin", structure_margin, 0.0, 60.0);
+  r.read("structure_arrival_distance", structure_arrival_distance, 0.01, 10.0);
   r.read("structure_frames", structure_frames, 0, 1000);
   r.read("new_track_separation", new_track_separation, 0.0, 10.0);
   r.read("reid_speed", reid_speed, 0.0, 50.0);

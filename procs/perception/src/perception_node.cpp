@@ -211,7 +211,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     if (a.how[j] == TO::ASSOC_NONE || a.points[j].empty()) continue;
     const Measurement m = measurer_.measure(frame_, a.points[j], tracks_.tracks()[j].width);
     const Track& tr = tracks_.tracks()[j];
-    const bool on_structure = tr.state != TO::STATE_TENTATIVE && onStructure(a.points[j], tr.created_utime);
+    const bool on_structure = tr.state != TO::STATE_TENTATIVE && onStructure(a.points[j], tr.arrival_utime);
     tracks_.update(j, m, utime, a.how[j], a.moving[j] != 0, on_structure, status_);
     updated[j] = 1;
     for (int i : a.points[j]) a.tracked_point[i] = 1;

@@ -75,8 +75,12 @@ std::vector<TrackView> TrackManager::views(int64_t utime) const {
 void TrackManager::update(std::size_t j, const Measurement& m, int64_t utime, int8_t how, bool moving,
                           bool on_structure, StatusReport& status) {
   Track& t = tracks_[j];
-  t.structure_frames = on_structure ? t.structure_frames + 1 : 0;
   const TrackParams& p = params_;
+  t.structure_frames = on_structure ? t.structure_frames + 1 : 0;
+  if ((m.center.head<2>() - t.arrival_xy).norm() > p.structure_arrival_distance) {
+    t.arrival_xy = m.center.head<2>();
+    t.arrival_utime = utime;
+  }
   const int64_t baseline_us = static_cast<int64_t>(p.velocity_baseline * 1e6);
   // Differenced velocity against the newest measurement at least one baseline old (or the
   // oldest one kept): a longer baseline than one frame keeps the centroid noise down.
@@ -294,6 +298,8 @@ bool TrackManager::start(const Measurement& m, int64_t utime, StatusReport& stat
   tr.hits = 1;
   tr.moving_hits = 1;
   tr.last_moving_utime = utime;
+  tr.arrival_xy = m.center.head<2>();
+  tr.arrival_utime = utime;
   tr.num_points = static_cast<int>(m.points.size());
   tr.last_association = TO::ASSOC_NEW;
   tracks_.push_back(std::move(tr));

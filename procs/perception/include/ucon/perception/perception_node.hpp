@@ -91,8 +91,8 @@ class PerceptionNode {
   void recover(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a);
   void startTracks(const std::vector<int>& dynamic, Assignment* a);
   /// Whether at least tracks.structure_share of these frame points lie on x-y cells occupied
-  /// without a gap since before `since` [us] (a track's creation): what the track measures
-  /// stood there before the track existed.
+  /// without a gap since structure_margin before `since` [us] (when the track came to its place,
+  /// or was created): what the track measures stood there before the track came.
   bool onStructure(const std::vector<int>& points, int64_t since) const;
   double elapsedMs(double since) const { return (stopwatch_() - since) * 1e3; }
 

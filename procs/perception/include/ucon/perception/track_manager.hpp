@@ -45,6 +45,8 @@ struct Track {
   int64_t last_moving_utime = 0;  ///< last such measurement
   int64_t last_fast_utime = 0;    ///< last frame its filtered speed reached confirm_min_speed
   int structure_frames = 0;       ///< consecutive measurements lying on structure older than the track
+  Eigen::Vector2d arrival_xy = Eigen::Vector2d::Zero();  ///< where it was when it last moved structure_arrival_distance [m]
+  int64_t arrival_utime = 0;      ///< ... and when: since then it has stayed at its place [us]
   int num_points = 0;           ///< points of the latest measurement
   Eigen::Vector2d size = Eigen::Vector2d::Zero();  ///< smoothed x-y box size [m]
   double size_z = 0.0;          ///< smoothed z extent [m]
