@@ -109,7 +109,9 @@ PerceptionOutput PerceptionNode::invalidOutput(int64_t utime, int64_t frame_seq,
 bool PerceptionNode::onStructure(const std::vector<int>& points, int64_t since) const {
   // The cells as of the previous frame (this frame's hits are recorded after the tracks'
   // update), occupied without a gap since structure_margin before `since`: an object holds a
-  // cell for a moment as it walks over it, and was already standing where its track started.
+  // cell for a moment as it walks over it, and may have stood a moment where it was when its
+  // track started or came to its place. Cells come from the static persistence test, so the
+  // rule is off with it (segmentation.static_persistence 0).
   const TrackParams& p = params_.tracks;
   if (p.structure_frames <= 0 || points.empty()) return false;
   const int64_t before = since - static_cast<int64_t>(p.structure_margin * 1e6);

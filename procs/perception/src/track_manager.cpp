@@ -250,9 +250,10 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
     // passing the motion test, or its filtered speed stays near zero. People pause for
     // shorter than max_stationary (and a longer pause is bridged by re-identification).
     if (tr.kf.state().segment<2>(3).norm() >= p.confirm_min_speed) tr.last_fast_utime = utime;
-    // A track that measures only what stood there before it existed has latched onto
-    // structure (a box a person walked past, merged into one cluster with the person when the
-    // track started): it ends at once, not after max_stationary.
+    // A track that measures only what stood at its place before it came there has latched
+    // onto structure (a box a person walked past, merged into one cluster with the person
+    // when the track started; a pillar beside which it lost its person): it ends at once,
+    // not after max_stationary.
     if (p.structure_frames > 0 && tr.structure_frames >= p.structure_frames) {
       tr.state = TO::STATE_DELETED;
       status.count("tracks_on_structure");
