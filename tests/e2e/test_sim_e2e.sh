@@ -9,8 +9,7 @@ BUILD=${UCON_BUILD_DIR:-$ROOT/build}
 tmp=$(mktemp -d)
 export UCON_RUN_DIR="$tmp/run"
 URL="udpm://239.255.76.67:7960?ttl=0"
-fails=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 cleanup() { "$UCON" stop --grace 1 >/dev/null 2>&1; rm -rf "$tmp"; }
 trap cleanup EXIT
 
@@ -45,5 +44,4 @@ if [ -n "$log" ]; then
   check "a picture of the run was drawn" '[ -s "${log%_000.lcm}.png" ]'
   check "the odometry's accuracy was printed" 'grep -q "ucon: odometry: .*RPE\|ucon: odometry: .*final drift" "$tmp/sim.out"'
 fi
-echo "checks failed: $fails"
-[ $fails -eq 0 ]
+checks_done

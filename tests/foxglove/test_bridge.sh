@@ -25,8 +25,7 @@ tmp=$(mktemp -d)
 export UCON_RUN_DIR="$tmp/run"
 URL="udpm://239.255.76.67:7901?ttl=0"
 PORT=27401
-fails=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 cleanup() { "$UCON" stop --grace 2 >/dev/null 2>&1; rm -rf "$tmp"; }
 trap cleanup EXIT
 
@@ -83,5 +82,4 @@ if [ -n "$log" ]; then
   tail -n 5 "$tmp/read.out"
   check "the run's log reads back, with everything the shipped layout shows" '[ $rc -eq 0 ]'
 fi
-echo "checks failed: $fails"
-[ $fails -eq 0 ]
+checks_done

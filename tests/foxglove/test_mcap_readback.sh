@@ -19,8 +19,7 @@ if [ ! -d "$UCON_NODE_MODULES/@mcap/core" ]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-fails=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 
 "$BUILD/bin/ucon-sim-record" --out "$tmp/run.lcm" --scenario crossing --duration 20 --nodes all >"$tmp/rec.out" 2>&1
 check "a 20 s simulation was recorded" '[ -s "$tmp/run.lcm" ]' || { cat "$tmp/rec.out"; exit 1; }
@@ -84,5 +83,4 @@ check "missing log: exit 2 with a message naming it" '[ $rc -eq 2 ] && grep -q "
 "$BUILD/bin/ucon-mcap" "$tmp/run.lcm" -o "$tmp/x.mcap" --planner-config "$tmp/none.yaml" >/dev/null 2>"$tmp/p.err"
 rc=$?
 check "missing planner config: exit 2 with a message" '[ $rc -eq 2 ] && grep -q "planner-config" "$tmp/p.err"'
-echo "checks failed: $fails"
-[ $fails -eq 0 ]
+checks_done

@@ -8,8 +8,7 @@ UCON="$ROOT/deploy/ucon"
 tmp=$(mktemp -d)
 export UCON_RUN_DIR="$tmp/run" UCON_TEST_MARKER="ucon-launcher-test-$$-$RANDOM"
 URL="udpm://239.255.76.67:7803?ttl=0"
-fails=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 count() { pgrep -f "$UCON_TEST_MARKER" | wc -l; }
 cleanup() { pkill -KILL -f "$UCON_TEST_MARKER" 2>/dev/null; rm -rf "$tmp"; }
 trap cleanup EXIT
@@ -92,5 +91,4 @@ check "a selection that leaves nothing exits 2 (got $rc)" '[ $rc -eq 2 ] && echo
 sleep 0.3
 check "nothing runs after the refused starts" '[ "$(count)" -eq 0 ]'
 
-echo "$(( $(grep -c "^ *check " "$0") - fails )) passed, $fails failed"
-[ $fails -eq 0 ]
+checks_done

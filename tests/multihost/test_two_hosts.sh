@@ -21,8 +21,7 @@ if ! command -v ip >/dev/null 2>&1; then echo "skipped: 'ip' (iproute2) is missi
 
 A=ucon-hostsA-$$ B=ucon-hostsB-$$
 tmp=$(mktemp -d)
-fails=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 on() { local ns=$1 run=$2; shift 2; ip netns exec "$ns" env UCON_RUN_DIR="$tmp/$run" UCON_BUILD_DIR="$BUILD" "$@"; }
 cleanup() {
   # Stop both hosts' profiles (their supervisors also stop when the namespace goes, but the
@@ -109,5 +108,4 @@ if [ -n "$log" ]; then
          END { for (k in last) printf "logger on B: %s %s\n", k, last[k] }' | sort
 fi
 check "the run took at most 120 s of wall time (${wall} s)" '[ "$wall" -le 120 ]'
-echo "checks failed: $fails"
-[ $fails -eq 0 ]
+checks_done

@@ -8,8 +8,7 @@ BIN=${1:?usage: test_replay_cli.sh BIN_DIR}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-fails=0
-check() { if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 
 "$BIN/ucon-sim-record" --out "$tmp/run.lcm" --scenario crossing --duration 1.0 --nodes base_controller \
   --config-dir "$ROOT/deploy/config" --scenario-dir "$ROOT/deploy/scenarios" >"$tmp/rec.out" 2>&1
@@ -48,5 +47,4 @@ check "unknown node: exit 2 naming it (got $rc)" '[ $rc -eq 2 ] && grep -q "unkn
 "$BIN/ucon-replay" --node base_controller --in "$tmp/none.lcm" --out "$tmp/x.lcm" >"$tmp/m.out" 2>&1; rc=$?
 check "missing log: exit 2 (got $rc)" '[ $rc -eq 2 ] && grep -q "cannot open" "$tmp/m.out"'
 
-echo "$(( $(grep -c "^check \|^  *check " "$0") - fails )) passed, $fails failed"
-[ $fails -eq 0 ]
+checks_done

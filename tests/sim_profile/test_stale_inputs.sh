@@ -25,8 +25,7 @@ tmp=$(mktemp -d /tmp/ucon_stale_XXXXXX)
 export UCON_BUILD_DIR="$BUILD" UCON_RUN_DIR="$tmp/run" UCON_TEST_CFG="$tmp/cfg"
 URL="udpm://239.255.76.67:7832?ttl=0"
 SCENARIO="$ROOT/tests/sim_profile/stale_inputs.yaml"
-fails=0 checks=0
-check() { checks=$((checks + 1)); if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 pidof_proc() { cat "$UCON_RUN_DIR/procs/$1.pid" 2>/dev/null; }
 wall_us() { date +%s%6N; }
 cleanup() {
@@ -268,5 +267,4 @@ check "c: tracking again after kill -CONT" '[ "$(resumed c)" = yes ]'
 
 for c in a b c; do echo "---- deploy/ucon status during case $c"; echo "${STATUS_OUT[$c]}"; done
 echo "---- deploy/ucon status at the end"; echo "$status_end"
-echo "$((checks - fails)) passed, $fails failed in $(( $(date +%s) - t_begin )) s"
-[ $fails -eq 0 ]
+checks_done "in $(( $(date +%s) - t_begin )) s"

@@ -15,8 +15,7 @@ UCON="$ROOT/deploy/ucon"
 tmp=$(mktemp -d /tmp/ucon_supervision_XXXXXX)
 export UCON_BUILD_DIR="$BUILD" UCON_RUN_DIR="$tmp/run" UCON_TEST_CFG="$tmp/cfg"
 URL="udpm://239.255.76.67:7821?ttl=0"
-fails=0 checks=0
-check() { checks=$((checks + 1)); if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 pidof_proc() { cat "$UCON_RUN_DIR/procs/$1.pid" 2>/dev/null; }
 alive() { [ -n "${1:-}" ] && kill -0 "$1" 2>/dev/null; }
 cleanup() {
@@ -126,5 +125,4 @@ for p in $pids; do alive "$p" && left=$((left + 1)); done
 check "foreground launcher stopped by SIGTERM: exit 0 (got $rc), no process left ($left)" '[ $rc -eq 0 ] && [ $left -eq 0 ]'
 check "it says why it stopped" 'grep -q "stop requested" "$tmp/fg.out"'
 
-echo "$((checks - fails)) passed, $fails failed"
-[ $fails -eq 0 ]
+checks_done

@@ -9,8 +9,7 @@ BUILD=${1:?usage: test_health.sh BUILD_DIR}
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 HEALTH="$BUILD/bin/ucon-health"
 URL="udpm://239.255.76.67:7831?ttl=0"
-fails=0 checks=0
-check() { checks=$((checks + 1)); if eval "$2"; then echo "ok: $1"; else echo "FAIL: $1"; fails=$((fails + 1)); fi; }
+. "$ROOT/tests/lib/checks.sh"
 [ -x "$HEALTH" ] || { echo "FAIL: $HEALTH is not built"; exit 1; }
 [ -x "$BUILD/bin/ucon-base-controller" ] || { echo "FAIL: ucon-base-controller is not built"; exit 1; }
 
@@ -34,5 +33,4 @@ check "it has no fault counter (none counted yet)" '! echo "$out" | grep -q "fau
 check "the silent process is named" 'echo "$out" | grep -Eq "^perception +- +no status heard in 2.5 s"'
 check "BASE_STATUS (base_status_t) is not listed as a process" '! echo "$out" | grep -q "BASE_STATUS"'
 
-echo "$((checks - fails)) passed, $fails failed"
-[ $fails -eq 0 ]
+checks_done
