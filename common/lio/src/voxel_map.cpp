@@ -49,15 +49,21 @@ int32_t floorToInt(float x) {
 struct VoxelMap::Impl {
   struct Slot {
     uint64_t key = 0;
-    int32_t count = 0;
     int32_t prev = -1, next = -1;  // LRU list: head = most recently updated
   };
+  // The index's value: the voxel's slot and its point count, so that a query reads the count
+  // from the bucket it has just loaded instead of from another cache line.
+  struct Entry {
+    int32_t slot;
+    int32_t count;
+  };
 
-  tsl::robin_map<uint64_t, int32_t, KeyHash> index;
+  tsl::robin_map<uint64_t, Entry, KeyHash> index;
   std::vector<Slot> slots;
-  // Points stored per coordinate (structure of arrays), so that the distances to a voxel's
-  // points are computed several at a time: slot s holds [s * cap, s * cap + count) of each.
-  std::vector<float> px, py, pz;
+  // A slot's points in one block of 3 * cap floats, x then y then z (structure of arrays inside
+  // the block), so that the distances to a voxel's points are computed several at a time and a
+  // query touches one contiguous run of memory per voxel.
+  std::vector<float> pts;
   std::vector<int32_t> free_slots;
   int32_t head = -1, tail = -1;
   std::size_t num_points = 0;
@@ -66,6 +72,7 @@ struct VoxelMap::Impl {
   int64_t max_voxels = 200000;
   std::vector<Eigen::Vector3i> offsets;  // own voxel first
 
+  std::size_t block(int32_t s) const { return static_cast<std::size_t>(s) * static_cast<std::size_t>(3 * cap); }
   void unlink(int32_t s) {
     Slot& sl = slots[static_cast<std::size_t>(s)];
     if (sl.prev >= 0) slots[static_cast<std::size_t>(sl.prev)].next = sl.next; else head = sl.next;
@@ -82,13 +89,14 @@ struct VoxelMap::Impl {
   }
   void drop(int32_t s) {
     Slot& sl = slots[static_cast<std::size_t>(s)];
-    index.erase(sl.key);
-    num_points -= static_cast<std::size_t>(sl.count);
-    sl.count = 0;
+    const auto it = index.find(sl.key);
+    num_points -= static_cast<std::size_t>(it->second.count);
+    index.erase(it);
     unlink(s);
     free_slots.push_back(s);
   }
-  int32_t allocate(uint64_t key) {
+  // A new, empty voxel for `key` (evicting the least recently updated one beyond max_voxels).
+  tsl::robin_map<uint64_t, Entry, KeyHash>::iterator allocate(uint64_t key) {
     if (static_cast<int64_t>(index.size()) >= max_voxels && tail >= 0) drop(tail);
     int32_t s;
     if (!free_slots.empty()) {
@@ -97,15 +105,11 @@ struct VoxelMap::Impl {
     } else {
       s = static_cast<int32_t>(slots.size());
       slots.emplace_back();
-      px.resize(px.size() + static_cast<std::size_t>(cap));
-      py.resize(py.size() + static_cast<std::size_t>(cap));
-      pz.resize(pz.size() + static_cast<std::size_t>(cap));
+      pts.resize(pts.size() + static_cast<std::size_t>(3 * cap));
     }
     slots[static_cast<std::size_t>(s)].key = key;
-    slots[static_cast<std::size_t>(s)].count = 0;
-    index.emplace(key, s);
     pushFront(s);
-    return s;
+    return index.emplace(key, Entry{s, 0}).first;
   }
   uint64_t keyOf(const Eigen::Vector3f& p, Eigen::Vector3i* cell) const {
     const Eigen::Vector3i c(floorToInt(p.x() * inv_voxel), floorToInt(p.y() * inv_voxel),
@@ -147,31 +151,26 @@ bool VoxelMap::insert(const Eigen::Vector3f& p) {
   if (!p.allFinite()) return false;
   Impl& m = *impl_;
   const uint64_t key = m.keyOf(p, nullptr);
-  int32_t s;
-  const auto it = m.index.find(key);
+  auto it = m.index.find(key);
   if (it == m.index.end()) {
-    s = m.allocate(key);
-  } else {
-    s = it->second;
-    if (m.head != s) {
-      m.unlink(s);
-      m.pushFront(s);
-    }
+    it = m.allocate(key);
+  } else if (m.head != it->second.slot) {
+    m.unlink(it->second.slot);
+    m.pushFront(it->second.slot);
   }
-  Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
-  if (sl.count >= m.cap) return false;
-  const std::size_t b = static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap);
-  float* xs = &m.px[b];
-  float* ys = &m.py[b];
-  float* zs = &m.pz[b];
-  for (int i = 0; i < sl.count; ++i) {
+  const int count = it->second.count;
+  if (count >= m.cap) return false;
+  float* xs = &m.pts[m.block(it->second.slot)];
+  float* ys = xs + m.cap;
+  float* zs = ys + m.cap;
+  for (int i = 0; i < count; ++i) {
     const float dx = xs[i] - p.x(), dy = ys[i] - p.y(), dz = zs[i] - p.z();
     if (dx * dx + dy * dy + dz * dz < m.spacing2) return false;
   }
-  xs[sl.count] = p.x();
-  ys[sl.count] = p.y();
-  zs[sl.count] = p.z();
-  ++sl.count;
+  xs[count] = p.x();
+  ys[count] = p.y();
+  zs[count] = p.z();
+  it.value().count = count + 1;
   ++m.num_points;
   return true;
 }
@@ -193,6 +192,10 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
   // Position of q inside its voxel, for the distance to a neighbour voxel's nearest face.
   const Eigen::Vector3f lo = c.cast<float>() * m.voxel;
   const Eigen::Vector3f in = q - lo;
+  // The k best so far, ascending: distances and where each point's x lies (y and z follow at
+  // +cap and +2 cap), kept locally so that an insertion moves two words; copied out at the end.
+  float best_d2[Neighbours::kMax];
+  const float* best_at[Neighbours::kMax];
   int n = 0;
   for (const Eigen::Vector3i& o : m.offsets) {
     // Lower bound of the squared distance from q to any point of that voxel: skip it when it
@@ -202,20 +205,18 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
       const float d = o[a] < 0 ? in[a] : o[a] > 0 ? m.voxel - in[a] : 0.0f;
       bound += d * d;
     }
-    if (bound >= max2 || (n == k && bound >= out->dist2[k - 1])) continue;
+    if (bound >= max2 || (n == k && bound >= best_d2[k - 1])) continue;
     const Eigen::Vector3i cc = c + o;
     const auto it = m.index.find(packKey(cc.x(), cc.y(), cc.z()));
     if (it == m.index.end()) continue;
-    const int32_t s = it->second;
-    const int count = m.slots[static_cast<std::size_t>(s)].count;
-    const std::size_t b = static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap);
-    const float* xs = &m.px[b];
-    const float* ys = &m.py[b];
-    const float* zs = &m.pz[b];
+    const int count = it->second.count;
+    const float* xs = &m.pts[m.block(it->second.slot)];
+    const float* ys = xs + m.cap;
+    const float* zs = ys + m.cap;
     // All distances first, counting those that could enter (below max_distance and, once k
     // are held, below the k-th): a loop the compiler vectorises. The sorted insertion runs
     // only over a voxel that has such a point.
-    const float limit0 = n == k ? out->dist2[k - 1] : max2;
+    const float limit0 = n == k ? best_d2[k - 1] : max2;
     float d2s[64];
     int below = 0;
     for (int i = 0; i < count; ++i) {
@@ -231,15 +232,20 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
       if (!(d2 < limit)) continue;
       // Insertion into the sorted list (strict '<': an equal distance keeps the earlier point).
       int j = n < k ? n++ : k - 1;
-      while (j > 0 && out->dist2[j - 1] > d2) {
-        out->dist2[j] = out->dist2[j - 1];
-        out->points[j] = out->points[j - 1];
+      while (j > 0 && best_d2[j - 1] > d2) {
+        best_d2[j] = best_d2[j - 1];
+        best_at[j] = best_at[j - 1];
         --j;
       }
-      out->dist2[j] = d2;
-      out->points[j] = Eigen::Vector3f(xs[i], ys[i], zs[i]);
-      if (n == k) limit = out->dist2[k - 1];
+      best_d2[j] = d2;
+      best_at[j] = xs + i;
+      if (n == k) limit = best_d2[k - 1];
     }
+  }
+  const std::size_t cap = static_cast<std::size_t>(m.cap);
+  for (int j = 0; j < n; ++j) {
+    out->dist2[j] = best_d2[j];
+    out->points[j] = Eigen::Vector3f(best_at[j][0], best_at[j][cap], best_at[j][2 * cap]);
   }
   out->count = n;
   return n;
@@ -277,8 +283,9 @@ std::vector<Eigen::Vector3f> VoxelMap::points() const {
   out.reserve(m.num_points);
   for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
     const auto& sl = m.slots[static_cast<std::size_t>(s)];
-    const std::size_t b = static_cast<std::size_t>(s) * static_cast<std::size_t>(m.cap);
-    for (int i = 0; i < sl.count; ++i) out.emplace_back(m.px[b + i], m.py[b + i], m.pz[b + i]);
+    const float* xs = &m.pts[m.block(s)];
+    const int count = m.index.find(sl.key)->second.count;
+    for (int i = 0; i < count; ++i) out.emplace_back(xs[i], xs[m.cap + i], xs[2 * m.cap + i]);
   }
   return out;
 }
