@@ -93,6 +93,7 @@ struct DriveOptions {
   bool quick = false, all_gt = false;
   bool parked = false;
   std::string save_logs, json, source_dir, heading;
+  std::string pose = "ground_truth";  ///< whose ROBOT_POSE the drive runs on: ground_truth | odometry
   ucon::bench::ScoreOptions score;
 };
 
@@ -126,6 +127,14 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
       return 2;
     }
     *text = *t;
+  }
+  if (o.pose == "odometry") {
+    auto t = ucon::runtime::readTextFile(cfg + "odometry.yaml", &err);
+    if (!t) {
+      std::fprintf(stderr, "bench-perception: %s\n", err.c_str());
+      return 2;
+    }
+    dc.odometry_yaml = *t;
   }
   std::vector<ucon::perception::PerceptionParams> params;
   for (const auto& m : o.methods) params.push_back(*b::methodParams(m, perc_params));
@@ -166,10 +175,12 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
       const auto& st = rec->stats;
       std::fprintf(stderr,
                    "%s seed %lld: drove %.1f m in %.1f s (mean %.2f m/s, max %.2f m/s, max yaw rate %.2f rad/s, "
-                   "moving %.0f %%, %lld goals, %lld collisions), recording %016llx, %.1f s wall\n",
+                   "moving %.0f %%, %lld goals, %lld collisions, pose error at most %.3f m), recording %016llx, "
+                   "%.1f s wall\n",
                    scene.c_str(), static_cast<long long>(seed), st.path_m, st.sim_s, st.mean_speed, st.max_speed,
                    st.max_yaw_rate, 100 * st.moving_share, static_cast<long long>(st.goals_reached),
-                   static_cast<long long>(st.collisions), static_cast<unsigned long long>(st.digest), rec_s);
+                   static_cast<long long>(st.collisions), st.pose_error_max, static_cast<unsigned long long>(st.digest),
+                   rec_s);
       const auto scores = b::scoreRecording(*rec, o.methods, params, o.score);
       for (const auto& sc_m : scores) {
         std::vector<std::pair<int64_t, int>> top;
@@ -197,9 +208,10 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
   }
 
   const bool vis = !o.all_gt;
-  std::printf("\nPerception from a moving robot (--drive, heading %s): %d seed(s) from %lld, %.1f s per drive, "
-              "CLEAR-MOT threshold %.2f m, movers within %.1f m scored%s\n",
-              o.parked ? "parked: no route" : o.heading.empty() ? "as configured" : o.heading.c_str(), o.seeds, static_cast<long long>(o.seed_base),
+  std::printf("\nPerception from a moving robot (--drive, heading %s, pose %s): %d seed(s) from %lld, %.1f s per "
+              "drive, CLEAR-MOT threshold %.2f m, movers within %.1f m scored%s\n",
+              o.parked ? "parked: no route" : o.heading.empty() ? "as configured" : o.heading.c_str(),
+              o.pose.c_str(), o.seeds, static_cast<long long>(o.seed_base),
               o.duration, o.score.threshold_m, o.score.max_range_m,
               vis ? ("; 'vis': only movers with >= " + std::to_string(o.score.min_visible_points) +
                      " LiDAR returns in the node's frames")
@@ -295,7 +307,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
     js << "{\"mode\": \"drive\", \"scenes\": [";
     for (std::size_t i = 0; i < o.scenes.size(); ++i) js << (i ? ", " : "") << "\"" << o.scenes[i] << "\"";
     js << "], \"heading\": \"" << (o.heading.empty() ? "configured" : o.heading)
-       << "\", \"parked\": " << (o.parked ? "true" : "false") << ", \"seeds\": " << o.seeds << ", \"seed_base\": " << o.seed_base << ", \"duration_s\": " << num(o.duration)
+       << "\", \"pose\": \"" << o.pose << "\", \"parked\": " << (o.parked ? "true" : "false") << ", \"seeds\": " << o.seeds << ", \"seed_base\": " << o.seed_base << ", \"duration_s\": " << num(o.duration)
        << ", \"threshold_m\": " << num(o.score.threshold_m) << ", \"max_range_m\": " << num(o.score.max_range_m)
        << ", \"min_visible_points\": " << o.score.min_visible_points;
     // Medians over seeds per scene and method (the figures of record), the drives, then every
@@ -339,7 +351,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
          << ", \"mean_speed\": " << num(st.mean_speed) << ", \"max_speed\": " << num(st.max_speed)
          << ", \"max_yaw_rate\": " << num(st.max_yaw_rate) << ", \"moving_share\": " << num(st.moving_share)
          << ", \"goals_reached\": " << st.goals_reached << ", \"collisions\": " << st.collisions
-         << ", \"recording_digest\": \"" << dig << "\"}";
+         << ", \"pose_error_max_m\": " << num(st.pose_error_max) << ", \"recording_digest\": \"" << dig << "\"}";
       first = false;
     }
     js << "], \"results\": [";
@@ -447,6 +459,12 @@ int main(int argc, char** argv) {
                  "--drive: the base's heading: hold (keeps it, as shipped) or path (faces its velocity: the "
                  "sensor turns at every goal and along curves); default as in base_controller.yaml")
       ->check(CLI::IsMember({"hold", "path"}));
+  std::string pose_source = "ground_truth";
+  app.add_option("--pose", pose_source,
+                 "--drive: whose ROBOT_POSE the drive runs on: ground_truth (the simulator's) or odometry "
+                 "(ucon-odometry on the emulated Mid-360, as on the robot: planner, controller and every "
+                 "perception method use it)")
+      ->check(CLI::IsMember({"ground_truth", "odometry"}));
   CLI11_PARSE(app, argc, argv);
   FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
   if (quick) {
@@ -476,6 +494,7 @@ int main(int argc, char** argv) {
     o.all_gt = all_gt;
     o.save_logs = save_logs;
     o.heading = heading;
+    o.pose = pose_source;
     o.parked = parked;
     o.json = json_path;
     o.source_dir = source_dir;

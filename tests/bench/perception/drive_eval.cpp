@@ -12,6 +12,7 @@
 #include "ucon/config.hpp"
 #include "ucon/mot/runtime_frames.hpp"
 #include "ucon/nav_goal_t.hpp"
+#include "ucon/odometry/params.hpp"
 #include "ucon/perception/binding.hpp"
 #include "ucon/perception/outputs.hpp"
 #include "ucon/replay/bound_adapter.hpp"
@@ -298,6 +299,16 @@ std::optional<Recording> recordDrive(const DriveConfig& config, const world::Sce
 
   replay::RecorderConfig cfg;
   cfg.sim = config.sim;
+  std::unique_ptr<replay::NodeAdapter> odometry;
+  if (!config.odometry_yaml.empty()) {
+    const auto yaml = odometry::withInitialPose(
+        config.odometry_yaml, Eigen::Vector3d(scenario.robot.start.x(), scenario.robot.start.y(), scenario.robot.start_yaw));
+    if (!yaml) return fail("odometry.yaml: no init.pose line to start the odometry at the scenario's start");
+    if (!(odometry = replay::makeAdapter("odometry", *yaml, "odometry.yaml", &err))) return fail(err);
+    if (odometry->outputChannels().empty() || odometry->outputChannels().front() != channels::kRobotPose)
+      return fail("odometry.yaml: pose_channel must be ROBOT_POSE for the drive to run on it");
+    cfg.sim.pose_source = "none";
+  }
   cfg.driver = config.driver;
   cfg.scenario = scenario;
   cfg.duration_s = config.duration_s;
@@ -314,6 +325,8 @@ std::optional<Recording> recordDrive(const DriveConfig& config, const world::Sce
   DriveStats& st = rec.stats;
   double last_x = NAN, last_y = NAN;
   int64_t gt_frames = 0, moving_frames = 0;
+  sim_ground_truth_t last_gt{};
+  bool have_gt = false;
   const auto sink = [&](const std::string& ch, int64_t utime, const std::vector<uint8_t>& data) {
     if (!config.save_log.empty()) log_ok = log.write(ch, data.data(), data.size(), utime) && log_ok;
     const bool keep = ch == channels::kLidarPoints || ch == channels::kRobotPose || ch == channels::kSimGroundTruth;
@@ -325,9 +338,17 @@ std::optional<Recording> recordDrive(const DriveConfig& config, const world::Sce
       robot_pose_t p{};
       if (replay::decodeExact(data.data(), data.size(), &p) && std::isfinite(p.wz))
         st.max_yaw_rate = std::max(st.max_yaw_rate, std::abs(p.wz));
+      // The pose's distance from the simulator's at the same instant (its latest ground truth,
+      // at most 10 ms old, carried forward with its velocity).
+      const double dt = 1e-6 * static_cast<double>(p.utime - last_gt.utime);
+      if (have_gt && p.valid && dt >= 0.0 && dt <= 0.01 && std::isfinite(p.x) && std::isfinite(p.y))
+        st.pose_error_max = std::max(st.pose_error_max, std::hypot(p.x - (last_gt.robot_x + last_gt.robot_vx * dt),
+                                                                   p.y - (last_gt.robot_y + last_gt.robot_vy * dt)));
     } else if (ch == channels::kSimGroundTruth) {
       sim_ground_truth_t g;
       if (!replay::decodeExact(data.data(), data.size(), &g)) return;
+      last_gt = g;
+      have_gt = true;
       if (std::isfinite(last_x)) st.path_m += std::hypot(g.robot_x - last_x, g.robot_y - last_y);
       last_x = g.robot_x, last_y = g.robot_y;
       const double v = std::hypot(g.robot_vx, g.robot_vy);
@@ -336,8 +357,10 @@ std::optional<Recording> recordDrive(const DriveConfig& config, const world::Sce
       moving_frames += v > 0.1;
     }
   };
+  std::vector<replay::NodeAdapter*> nodes{&patrol, &oracle, planner.get(), controller.get()};
+  if (odometry) nodes.push_back(odometry.get());
   const replay::RecordSummary s =
-      replay::recordSimulatedRun(cfg, {&patrol, &oracle, planner.get(), controller.get()}, sink);
+      replay::recordSimulatedRun(cfg, nodes, sink);
   if (!config.save_log.empty()) {
     log.close();
     if (!log_ok) return fail(config.save_log + ": write failed (disk full?)");

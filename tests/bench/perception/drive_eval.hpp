@@ -89,6 +89,9 @@ struct DriveStats {
   double max_yaw_rate = 0.0;       ///< |wz| [rad/s] (ROBOT_POSE)
   int64_t collisions = 0;          ///< simulator's collision episodes
   int64_t goals_reached = 0;       ///< route goals reached
+  /// Largest x-y distance of ROBOT_POSE from the simulator's pose at the same instant [m]
+  /// (0 on ground truth; with DriveConfig::odometry_yaml the odometry's error).
+  double pose_error_max = 0.0;
   uint64_t digest = 1469598103934665603ull;  ///< FNV-1a 64 of every recorded event (channel, bytes)
 };
 
@@ -117,6 +120,11 @@ struct DriveConfig {
   /// No route: the robot stays at its start (the control run: the same recording, scoring and
   /// methods with the sensor parked).
   bool parked = false;
+  /// ucon-odometry's configuration (YAML text): when set, the odometry, started at the
+  /// scenario's start, publishes ROBOT_POSE from the emulated Mid-360's points and IMU and the
+  /// simulator publishes none, so the planner, the controller and the perception methods all
+  /// run on the robot's own pose. Empty: the simulator's exact pose.
+  std::string odometry_yaml;
 };
 
 /// Records one drive of `scenario`: the route is the scenario's goals and then its start,

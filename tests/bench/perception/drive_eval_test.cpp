@@ -256,6 +256,32 @@ TEST(DriveReplay, GivenARecordedDriveWhenScoredThenEachMethodSeesWhatUconReplayF
   EXPECT_GT(rec.stats.path_m, 0.5);  // the route drove the robot
 }
 
+TEST(DriveOdometry, GivenTheOdometrysConfigWhenADriveIsRecordedThenEveryNodeRunsOnTheOdometrysPose) {
+  std::string err;
+  auto sc = ucon::simulator::loadScenario("pedestrians", source("deploy/scenarios"), 1, ucon::runtime::readTextFile,
+                                          &err);
+  ASSERT_TRUE(sc.has_value()) << err;
+  auto c = driveConfig(5.0);
+  c.odometry_yaml = *ucon::runtime::readTextFile(source("deploy/config/odometry.yaml"), nullptr);
+  const auto odo = ucon::bench::recordDrive(c, *sc, "pedestrians", 1, &err);
+  ASSERT_TRUE(odo.has_value()) << err;
+  const auto gt = recordPedestrians(5.0, 1);
+  // The robot drove on the odometry (it localises from standstill first), whose pose is close
+  // to the simulator's but not equal to it; on ground truth the two agree.
+  EXPECT_GT(odo->stats.path_m, 1.0);
+  EXPECT_GT(odo->stats.pose_error_max, 1e-4);
+  EXPECT_LT(odo->stats.pose_error_max, 0.1);
+  EXPECT_LT(gt.stats.pose_error_max, 1e-3);
+  EXPECT_NE(odo->stats.digest, gt.stats.digest);
+  int64_t poses = 0;
+  for (const auto& e : odo->events) poses += e.channel == ucon::channels::kRobotPose;
+  EXPECT_GT(poses, 100);
+  // A configuration the odometry cannot start from is an error, not a drive on another pose.
+  c.odometry_yaml = "not: [an odometry config";
+  EXPECT_FALSE(ucon::bench::recordDrive(c, *sc, "pedestrians", 1, &err).has_value());
+  EXPECT_FALSE(err.empty());
+}
+
 TEST(DriveDeterminism, GivenTheSameSeedWhenRecordedAndScoredTwiceThenEveryFigureIsTheSame) {
   const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
   const std::vector<std::string> methods{"ucon", "fapp", "ucon-noreassoc"};
