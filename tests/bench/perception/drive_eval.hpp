@@ -5,7 +5,8 @@
 ///  1. record: one closed-loop run per scene and seed, in-process and in lock step
 ///     (ucon::replay::recordSimulatedRun): the simulator's Mid-360 packets through the lidar
 ///     driver, a patrol that sends the route's goals on NAV_GOAL, and the nodes that move the
-///     robot — the planner and the base controller — on the simulator's ground-truth pose.
+///     robot — the planner and the base controller — on the simulator's ground-truth pose
+///     (or, with DriveConfig::odometry_yaml, on ucon-odometry's, as on the robot).
 ///     The planner's inputs come from ground truth (GroundTruthPerception: the movers as
 ///     tracks, the frame's returns off the movers as static points), so the route does not
 ///     depend on the perception under test: every method, and every later change to
