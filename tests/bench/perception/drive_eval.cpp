@@ -12,7 +12,6 @@
 #include "ucon/config.hpp"
 #include "ucon/mot/runtime_frames.hpp"
 #include "ucon/nav_goal_t.hpp"
-#include "ucon/odometry/params.hpp"
 #include "ucon/perception/binding.hpp"
 #include "ucon/perception/outputs.hpp"
 #include "ucon/replay/bound_adapter.hpp"
@@ -20,6 +19,7 @@
 #include "ucon/runtime/log_reader.hpp"
 #include "ucon/world/world.hpp"
 #include "../bench_util.hpp"
+#include "odometry_in_loop.hpp"
 
 namespace ucon {
 namespace bench {
@@ -300,15 +300,9 @@ std::optional<Recording> recordDrive(const DriveConfig& config, const world::Sce
   replay::RecorderConfig cfg;
   cfg.sim = config.sim;
   std::unique_ptr<replay::NodeAdapter> odometry;
-  if (!config.odometry_yaml.empty()) {
-    const auto yaml = odometry::withInitialPose(
-        config.odometry_yaml, Eigen::Vector3d(scenario.robot.start.x(), scenario.robot.start.y(), scenario.robot.start_yaw));
-    if (!yaml) return fail("odometry.yaml: no init.pose line to start the odometry at the scenario's start");
-    if (!(odometry = replay::makeAdapter("odometry", *yaml, "odometry.yaml", &err))) return fail(err);
-    if (odometry->outputChannels().empty() || odometry->outputChannels().front() != channels::kRobotPose)
-      return fail("odometry.yaml: pose_channel must be ROBOT_POSE for the drive to run on it");
-    cfg.sim.pose_source = "none";
-  }
+  if (!config.odometry_yaml.empty() &&
+      !(odometry = odometryInLoopFromText(config.odometry_yaml, "odometry.yaml", scenario, &cfg.sim, &err)))
+    return fail(err);
   cfg.driver = config.driver;
   cfg.scenario = scenario;
   cfg.duration_s = config.duration_s;

@@ -101,9 +101,9 @@ struct TrackParams {
   double confirm_min_distance = 0.3;  ///< and it must have moved this far from where it was first seen [m], >= 0
   int confirm_moving_hits = 3;      ///< and this many of its clusters must have passed the motion test, >= 0
   double max_stationary = 3.0;      ///< a track whose clusters fail the motion test, or that stays slower than confirm_min_speed, this long is deleted [s]
-  double structure_share = 0.8;     ///< a confirmed track's measurement with at least this share of its points on x-y cells occupied since before the track was created lies on structure, (0, 1]
+  double structure_share = 0.8;     ///< a confirmed track's measurement with at least this share of its points on x-y cells occupied since before the track was created or came to its place lies on structure, (0, 1]
   double structure_margin = 1.0;    ///< ... occupied since this long before the track was created or arrived at its place [s], >= 0
-  double structure_arrival_distance = 0.5;  ///< [m] its place: where its measured centre has stayed within this of since it came there, > 0
+  double structure_arrival_distance = 0.5;  ///< [m] its place: its measured centre has stayed within this distance of it since it came there, > 0
   int structure_frames = 5;         ///< a confirmed track measured on structure this many frames in a row is deleted; 0 = off
   double new_track_separation = 0.7;  ///< no new track from a cluster this close to an existing track [m]
   double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
