@@ -110,3 +110,39 @@ TEST(Preprocessor, GivenAFrameEndingAfterTheNewestPoseThenItsLastPointsAreExtrap
   EXPECT_TRUE(r.pose_extrapolated);
   EXPECT_LT(worstError(f, world), 2e-3);
 }
+
+TEST(Preprocessor, GivenAnOdometryFrameThatDriftedInHeightThenGroundIsCutAtTheFloorUnderTheRobot) {
+  // An odometry's frame drifts in z by centimetres over tens of metres: the floor under the
+  // robot is at the base's z, not at world z 0. Floor points (base z 0) are ground and a box
+  // (base z 0.3-1.0 m) is kept, whether the frame drifted up or down.
+  const PerceptionParams params;
+  const AngularGrid fine(1.0), coarse(3.0);
+  ucon::point_cloud_t c{};
+  c.utime = kT0;
+  c.frame_id = "base";
+  for (int i = 0; i < 40; ++i) {
+    const float x = 3.0f + 0.1f * static_cast<float>(i);
+    for (float z : {0.0f, 0.3f, 0.6f, 1.0f}) {  // floor, then the box's face at x = 4 m
+      c.x.push_back(z == 0.0f ? x : 4.0f);
+      c.y.push_back(-1.0f + 0.05f * static_cast<float>(i));
+      c.z.push_back(z);
+    }
+  }
+  c.num_points = static_cast<int32_t>(c.x.size());
+  for (double drift : {0.2, -0.2}) {
+    SCOPED_TRACE(drift);
+    Preprocessor pre(params.preprocess, fine, coarse);
+    PoseBuffer poses;
+    auto p = truePose(kT0);
+    p.x = 0.0, p.yaw = 0.0, p.qw = 1.0, p.qz = 0.0, p.vx = 0.0, p.wz = 0.0;
+    p.z = drift;
+    ASSERT_EQ(poses.add(p), PoseBuffer::AddResult::kAdded);
+    Frame f;
+    pre.process(c, *poses.at(kT0, 0.1), poses, 0.1, &f);
+    ASSERT_FALSE(f.points.empty());
+    double lowest = INFINITY;
+    for (const auto& q : f.points) lowest = std::min(lowest, double(q.z()) - drift);
+    EXPECT_GT(lowest, params.preprocess.min_height);  // no floor point
+    EXPECT_LT(lowest, 0.45);                          // the box's lowest row (0.3 m) is there
+  }
+}

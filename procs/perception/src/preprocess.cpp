@@ -74,7 +74,10 @@ Preprocessor::Result Preprocessor::process(const point_cloud_t& cloud, const Eig
     // motion test needs that (a mover's lower half is seen against the ground).
     if (!several || cloud.point_sensor[static_cast<std::size_t>(i)] == 0) f.returns.push_back(w);
     if (r2 > max_r2) continue;
-    if (w.z() < p.min_height || w.z() > p.max_height) continue;
+    // Height above the floor under the robot, not world z: an odometry's frame drifts in z
+    // (and tilts) by centimetres over tens of metres, and its floor with it.
+    const float h = w.z() - (in_world ? robot_centre.z() : knot_translation_[k].z());
+    if (h < p.min_height || h > p.max_height) continue;
     kept.push_back(w);
   }
   // Merge the previous frame(s): at 50 Hz a person 10 m away gets only a handful of returns

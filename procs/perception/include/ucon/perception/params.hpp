@@ -26,8 +26,8 @@ struct PaperParams {
 struct PreprocessParams {
   double min_range = 0.5;    ///< horizontal distance from the robot centre below which points are the robot's own body [m], >= 0
   double max_range = 15.0;   ///< horizontal crop range [m], > min_range
-  double min_height = 0.15;  ///< world z below this is ground [m]
-  double max_height = 2.2;   ///< world z above this is ceiling [m], > min_height
+  double min_height = 0.15;  ///< height above the floor under the robot (world z minus the base's z) below which a point is ground [m]
+  double max_height = 2.2;   ///< ... above which it is ceiling [m], > min_height
   int accumulate_frames = 2;  ///< frames merged before down-sampling (a 50 Hz Mid-360 frame is sparse), [1, 10]
   double voxel_size = 0.08;  ///< voxel edge for down-sampling [m], > 0 (0.005..1)
   std::vector<double> sensor_origin{0.0, 0.0, 0.5};  ///< sensor origin in the base frame [m] (for free-space clearing)
