@@ -123,10 +123,12 @@ TEST(LioOdometry, GivenADriveThroughARoomThenThePoseFollowsTheTruthWithinCentime
   int updated = 0;
   for (const auto& r : reports) updated += r.result == FrameResult::kUpdated;
   EXPECT_GT(updated, 300);
-  std::size_t first = 0;  // frames before the standstill start are dropped
+  std::size_t first = 0;  // frames before the start are not registered...
   while (first < reports.size() && reports[first].result == FrameResult::kNotInitialised) ++first;
   ASSERT_LT(first, reports.size());
-  EXPECT_EQ(reports[first].result, FrameResult::kMapStarted);
+  // ... but those of the standstill make the first map, which the first frame registers against.
+  EXPECT_EQ(reports[first].result, FrameResult::kUpdated);
+  EXPECT_GE(odo.counters().standstill_frames, 20);  // 0.5 s of 50 Hz frames, less the edges
   // Consistency: the stated position std is not wildly below the actual error.
   const double std_xy = std::sqrt(last.P(kPos, kPos) + last.P(kPos + 1, kPos + 1));
   EXPECT_GT(std_xy, 1e-4);
@@ -276,4 +278,47 @@ TEST(LioBaselines, GivenTheSameDriveThenDeadReckoningAndLidarOnlyBothFollowIt) {
   EXPECT_LT(imu_err, 0.3);
   EXPECT_LT(lidar_err, 0.1);
   EXPECT_EQ(registered, frames);
+}
+
+TEST(LioOdometry, GivenFramesDuringTheStartUpStandstillThenTheFirstMapIsBuiltFromThemAll) {
+  // One frame makes a sparse map (its floor planes fitted from few points) against which the
+  // frame tilts, and the tilt carries into every later part of the map. The frames of the
+  // standstill were all taken at the start pose: the map starts from all of them.
+  test::SyntheticRun run(world::World(test::roomScenario()), test::curvyDrive(100.0, 0.0, 0.0), noisy());
+  std::vector<FrameReport> reports;
+  LioOdometry odo(params());
+  for (int i = 0; i <= 140; ++i) {
+    const double t = i * 0.005;
+    if (i % 4 == 0 && t >= 0.02) odo.addFrame(run.frame(t - 0.02), &reports);  // the frame that just ended
+    feed(odo, run.imu(t), &reports);
+  }
+  ASSERT_EQ(odo.phase(), Phase::kRunning);
+  const int64_t still = odo.counters().standstill_frames;
+  EXPECT_GE(still, 20);
+  EXPECT_LE(still, 26);
+  // The map holds far more than one frame's points, and the first frame after the start
+  // registered against it (no "map started").
+  int not_initialised = 0, updated = 0, started = 0;
+  for (const auto& r : reports) {
+    not_initialised += r.result == FrameResult::kNotInitialised;
+    updated += r.result == FrameResult::kUpdated;
+    started += r.result == FrameResult::kMapStarted;
+  }
+  EXPECT_EQ(started, 0);
+  EXPECT_GT(updated, 0);
+  EXPECT_GE(not_initialised, still);
+  const auto single = [&] {
+    LioOdometry one(params());
+    std::vector<FrameReport> r;
+    for (int i = 0; i <= 140; ++i) {  // the same run, but the LiDAR starts after the start-up
+      const double t = i * 0.005;
+      if (i % 4 == 0 && t >= 0.62) one.addFrame(run.frame(t - 0.02), &r);
+      feed(one, run.imu(t), &r);
+    }
+    EXPECT_EQ(one.counters().standstill_frames, 0);
+    EXPECT_FALSE(r.empty());
+    if (!r.empty()) EXPECT_EQ(r.front().result, FrameResult::kMapStarted);
+    return one.map().numPoints();
+  }();
+  EXPECT_GT(odo.map().numPoints(), 2 * single);
 }

@@ -15,6 +15,8 @@ namespace ucon {
 namespace lio {
 
 namespace {
+// Frames kept before the start: those that began this long before the standstill window too.
+constexpr double kStillFrameMarginS = 0.2;
 
 double sec(int64_t ns) { return static_cast<double>(ns) * 1e-9; }
 
@@ -192,7 +194,9 @@ void LioOdometry::tryInitialise(const Sample& smp) {
   const double gstd = std::sqrt(vg.maxCoeff() / n), astd = std::sqrt(va.maxCoeff() / n);
   const double gerr = std::fabs(ma.norm() - p_.gravity);
   if (gstd < p_.init_max_gyro_std && astd < p_.init_max_acc_std && gerr < p_.init_max_gravity_error) {
+    const int64_t still_from = init_window_.front().s.t_ns;
     initialise(smp.s.t_ns, mg, ma);
+    startMapFromStandstill(still_from, smp.s.t_ns);
     return;
   }
   phase_ = Phase::kMovingAtStart;
@@ -251,12 +255,37 @@ void LioOdometry::initialise(int64_t t_ns, const Eigen::Vector3d& mg, const Eige
   restartOutput();
 }
 
+void LioOdometry::startMapFromStandstill(int64_t from_ns, int64_t to_ns) {
+  // One frame alone makes a sparse map whose floor planes are fitted from few, nearly collinear
+  // points; registered against it, the frame tilts by a few hundredths of a degree and every
+  // later part of the map inherits the tilt (the base's height then drifts by about 0.2 % of
+  // the distance driven). The standstill's frames were all taken at the start pose.
+  std::deque<PointFrame> frames;
+  frames.swap(still_frames_);
+  if (!map_.empty()) return;  // a re-initialisation keeps its map
+  const double rmin2 = p_.min_range * p_.min_range, rmax2 = p_.max_range * p_.max_range;
+  std::vector<Eigen::Vector3f> pts;
+  for (const PointFrame& f : frames) {
+    if (f.t0_ns < from_ns || f.endNs() > to_ns) continue;
+    pts.clear();
+    for (const auto& q : f.points) {
+      const Eigen::Vector3d pI = q.cast<double>() - p_.imu_position;
+      const double r2 = pI.squaredNorm();
+      if (r2 >= rmin2 && r2 <= rmax2) pts.push_back(pI.cast<float>());
+    }
+    for (int i : voxelDownsampleIndices(pts, p_.downsample_voxel))
+      map_.insert((x_.R * pts[static_cast<std::size_t>(i)].cast<double>() + x_.p).cast<float>());
+    ++n_.standstill_frames;
+  }
+}
+
 void LioOdometry::reinitialise(const std::string& why) {
   const Eigen::Vector3d pb = basePosition(xo_);
   start_pose_ = Eigen::Vector3d(pb.x(), pb.y(), std::atan2(xo_.R(1, 0), xo_.R(0, 0)));
   ++n_.reinitialisations;
   n_.frames_dropped += static_cast<int64_t>(frames_.size());
   frames_.clear();
+  still_frames_.clear();
   imu_.clear();
   init_window_.clear();
   phase_ = Phase::kInitialising;
@@ -288,7 +317,15 @@ void LioOdometry::addFrame(PointFrame frame, std::vector<FrameReport>* reports) 
     ++n_.frames_dropped;
     if (reports) reports->push_back(rep);
   };
-  if (phase_ != Phase::kRunning) return drop(FrameResult::kNotInitialised);
+  if (phase_ != Phase::kRunning) {
+    // Kept for the first map if the start-up finds the robot standing still over its time;
+    // only frames within the last standstill window (and a margin for late IMU) can be.
+    const int64_t keep_from =
+        frame.endNs() - static_cast<int64_t>(std::llround((p_.init_window_s + kStillFrameMarginS) * 1e9));
+    still_frames_.push_back(std::move(frame));
+    while (!still_frames_.empty() && still_frames_.front().t0_ns < keep_from) still_frames_.pop_front();
+    return drop(FrameResult::kNotInitialised);
+  }
   const int64_t end = frame.endNs();
   if (end <= last_frame_end_ns_ && !frames_.empty()) return drop(FrameResult::kOutOfOrder);
   if (end <= t_x_) return drop(end <= last_frame_end_ns_ ? FrameResult::kOutOfOrder : FrameResult::kLate);

@@ -149,7 +149,7 @@ const char* toString(Phase p);
 
 enum class FrameResult : uint8_t {
   kUpdated = 0,        ///< registered, state updated, map grown
-  kMapStarted = 1,     ///< first frame: map started, no update
+  kMapStarted = 1,     ///< first frame, no standstill frame kept: map started, no update
   kTooFewPoints = 2,   ///< fewer than min_points after filtering: IMU only
   kNotRegistered = 3,  ///< too few matched points or a failed solve: IMU only
   kNotInitialised = 4, ///< arrived before the filter was initialised: dropped
@@ -203,6 +203,7 @@ struct PoseEstimate {
 struct LioCounters {
   int64_t imu_in = 0, imu_out_of_order = 0, imu_non_finite = 0, imu_gaps = 0, reinitialisations = 0;
   int64_t frames_in = 0, frames_updated = 0, frames_skipped = 0, frames_dropped = 0;
+  int64_t standstill_frames = 0;  ///< frames of the start-up standstill the first map was built from
 };
 
 /// Ground-robot prior, base height: r = z of the base origin p - R t_imu [m], with its
@@ -262,6 +263,9 @@ class LioOdometry {
   void tryInitialise(const Sample& s);
   void initialise(int64_t t_ns, const Eigen::Vector3d& mean_gyro, const Eigen::Vector3d& mean_acc);
   void reinitialise(const std::string& why);
+  // Starts the map from the frames that lie within the standstill [from_ns, to_ns] that the
+  // start-up verified: the pose of each is the start pose (nothing if the map is not empty).
+  void startMapFromStandstill(int64_t from_ns, int64_t to_ns);
   // Propagates (x, P) from t to t_next with the mean of a and b; inflates for a gap.
   void step(NavState& x, Matrix15* P, int64_t t, int64_t t_next, const Sample& a, const Sample& b) const;
   void processFrame(const PointFrame& f, FrameReport* rep);
@@ -299,6 +303,7 @@ class LioOdometry {
   Sample prev_o_;
 
   std::deque<PointFrame> frames_;
+  std::deque<PointFrame> still_frames_;  // frames that came before the start (standstill candidates)
   int64_t last_frame_end_ns_ = 0;
   int64_t last_update_ns_ = 0;
   Eigen::Vector3d last_trim_position_ = Eigen::Vector3d::Zero();
