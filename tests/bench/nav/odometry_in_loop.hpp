@@ -1,9 +1,10 @@
 #pragma once
 /// @file odometry_in_loop.hpp
 /// `ucon-bench-nav --pose odometry` and `ucon-bench-perception --drive --pose odometry`: the
-/// stack navigates on the LiDAR-inertial odometry instead of the simulator's exact pose. The simulator then publishes no ROBOT_POSE; ucon-odometry's
-/// node (its replay adapter, deploy/config/odometry.yaml started at the scenario's start)
-/// publishes it from the emulated Mid-360's points and IMU, in the same in-process loop.
+/// stack navigates on the LiDAR-inertial odometry instead of the simulator's exact pose. The
+/// simulator then publishes no ROBOT_POSE; ucon-odometry's node (its replay adapter,
+/// deploy/config/odometry.yaml started at the scenario's start) publishes it from the emulated
+/// Mid-360's points and IMU, in the same in-process loop.
 
 #include <memory>
 #include <string>
