@@ -188,6 +188,44 @@ TEST(BaseControllerWatchdog, GivenTrajectoryStreamStopsThenStopsWithReason) {
   EXPECT_EQ(counterOf(r.loop.ctrl, "stops_trajectory_stale"), 1);
 }
 
+TEST(BaseControllerWatchdog, GivenASecondStopCauseDuringTheRampThenTheRampKeepsTheDecelLimit) {
+  // The pose stops (watchdog ramp), then mid-ramp the planner says stop and, later, that its
+  // plan is invalid: each cause is reported, but the deceleration stays within the limit and
+  // zero comes no sooner than speed / decel after the first stop.
+  const BaseControllerParams p = shippedParams();
+  for (const int8_t second : {ucon::trajectory_t::STATUS_STOP, ucon::trajectory_t::STATUS_INVALID}) {
+    Running r(p);
+    r.run(4.0);
+    ASSERT_GT(r.cmdSpeed(), 1.0);
+    r.loop.send_pose = false;
+    r.publish_plan = false;
+    double v_at_trigger = r.cmdSpeed();
+    int64_t trigger = -1;
+    for (int i = 0; i < 100 && trigger < 0; ++i) {
+      const int64_t t = r.loop.t;
+      r.step();
+      if (r.loop.ctrl.state() != base_status_t::STATE_TRACKING) {
+        trigger = t;
+      } else {
+        v_at_trigger = r.cmdSpeed();
+      }
+    }
+    ASSERT_GE(trigger, 0);
+    r.run(0.2);
+    ucon::trajectory_t m{};
+    m.utime = r.loop.t;
+    m.status = second;
+    m.message = "second cause";
+    r.loop.ctrl.onTrajectory(m);
+    const int64_t zero_at = stepUntilStopped(r, p, 2.0);  // checks every tick's deceleration
+    ASSERT_GE(zero_at, 0);
+    EXPECT_NE(r.loop.ctrl.reason().find(second == ucon::trajectory_t::STATUS_STOP ? "planner asked to stop" : "second cause"),
+              std::string::npos) << r.loop.ctrl.reason();
+    EXPECT_GE((zero_at - trigger) * 1e-6, v_at_trigger / p.watchdog.stop_linear_decel - 1.0 / p.control.rate_hz - 1e-9)
+        << "status " << int(second);
+  }
+}
+
 TEST(BaseControllerWatchdog, GivenPlanExpiresThenStopsWithReasonExpired) {
   BaseControllerParams p = shippedParams();
   Running r(p);

@@ -161,6 +161,8 @@ analyse() {
 }
 # The stop ramp of the controller: from the tick its BASE_STATUS names `$2` to the first zero
 # command: prints "v_at_trigger ramp_ms" (the ramp may not be shorter than v / decel - a period).
+# The speed at the trigger is the last command before that tick by utime: the log may hold the
+# tick's own (already reduced) command before its status.
 ramp_of() {
   local c=$1 why=$2 t0=${T_STOP[$1]} t1=${T_CONT[$1]}
   awk -F'\t' -v t0="$t0" -v t1="$t1" -v why="$why" '
@@ -168,12 +170,19 @@ ramp_of() {
     $2 < t0 || $2 >= t1 { next }
     $1 == "BASE_STATUS" && !trig && index(get("reason"), why) { trig = get("utime") + 0 }
     $1 == "BASE_WHEEL_CMD" {
-      u = get("utime") + 0; vx = get("vx"); vy = get("vy"); wz = get("wz")
-      if (!trig || u < trig) { v = sqrt(vx * vx + vy * vy); next }
-      if (!vt) vt = v " " u
-      if (vx == 0 && vy == 0 && wz == 0 && !done) { split(vt, a, " "); printf "%.3f %.0f\n", a[1], (u - a[2]) / 1000; done = 1 }
+      n++; cu[n] = get("utime") + 0; vx = get("vx"); vy = get("vy"); wz = get("wz")
+      cv[n] = sqrt(vx * vx + vy * vy); cz[n] = (vx == 0 && vy == 0 && wz == 0)
     }
-    END { if (!done) print "none" }' "$tmp/events.tsv"
+    END {
+      if (!trig) { print "none"; exit }
+      bu = -1; zu = -1
+      for (i = 1; i <= n; i++) {
+        if (cu[i] < trig && cu[i] > bu) { bu = cu[i]; v = cv[i] }
+        if (cu[i] >= trig && cz[i] && (zu < 0 || cu[i] < zu)) zu = cu[i]
+      }
+      if (bu < 0 || zu < 0) { print "none"; exit }
+      printf "%.3f %.0f\n", v, (zu - trig) / 1000
+    }' "$tmp/events.tsv"
 }
 # After the resume: the controller tracks again (BASE_STATUS state 1) and drives (|v| > 0.2).
 resumed() {
