@@ -91,6 +91,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--include-tentative", opt.include_tentative, "--log: count tentative tracks as hypotheses");
   app.add_flag("--exclude-coasting", opt.exclude_coasting, "--log: do not count coasting tracks");
+  auto* objects_opt = app.add_option("--objects-log", opt.objects_log,
+                                     "--log: take PERCEPTION_OBJECTS from this log instead (a replay's output, "
+                                     "e.g. ucon-replay --node perception --in LOG)");
   auto* gt_opt = app.add_option("--gt", gt_path, "MOTChallenge ground-truth text file");
   auto* pred_opt = app.add_option("--pred", pred_path, "MOTChallenge prediction text file");
   app.add_option("--iou", iou, "minimum IoU of a box match for --gt/--pred")->check(CLI::Range(0.0, 1.0));
@@ -98,6 +101,7 @@ int main(int argc, char** argv) {
   app.add_flag("--allow-truncated", allow_truncated, "--log: evaluate what precedes a truncated or corrupt tail");
   log_opt->excludes(gt_opt)->excludes(pred_opt);
   gt_opt->needs(pred_opt);
+  objects_opt->needs(log_opt);
   pred_opt->needs(gt_opt);
   CLI11_PARSE(app, argc, argv);
 

@@ -144,3 +144,45 @@ TEST(MotLog, GivenAFileThatIsNotAnLcmLogOrIsMissingThenTheErrorSaysSo) {
   EXPECT_NE(err.find("cannot open"), std::string::npos) << err;
   std::remove(path.c_str());
 }
+
+TEST(MotLog, GivenAnObjectsLogThenItsTracksAreEvaluatedAgainstTheFirstLogsGroundTruth) {
+  // The run's log holds ground truth and tracks; a second log (a replay's output) holds other
+  // tracks: with objects_log set only the second log's tracks count.
+  const std::string run = writeRun("run.lcm");
+  const std::string replay = tempPath("replay.lcm");
+  {
+    lcm::LogFile log(replay, "w");
+    ASSERT_TRUE(log.good());
+    for (int k = 0; k < 4; ++k) {
+      const int64_t t = 1000000 + k * 20000;
+      write(log, ucon::channels::kPerceptionObjects, tracksAt(t, 9, 0.02 * k), t);  // exact, one id
+    }
+  }
+  ucon::mot::LogEvalOptions opt;
+  opt.objects_log = replay;
+  ucon::mot::LogMatchStats st;
+  std::string err;
+  const auto s = ucon::mot::evaluateLog(run, opt, &st, &err);
+  ASSERT_TRUE(s) << err;
+  EXPECT_EQ(st.frames_evaluated, 4);
+  EXPECT_EQ(st.perception_messages, 4);
+  EXPECT_EQ(s->num_matches, 4);
+  EXPECT_EQ(s->num_switches, 0);
+  EXPECT_NEAR(s->mota, 1.0, 1e-12);
+  // An objects log without tracks, or a missing one, is an error naming that file.
+  opt.objects_log = run + ".missing";
+  EXPECT_FALSE(ucon::mot::evaluateLog(run, opt, nullptr, &err));
+  EXPECT_NE(err.find(".missing"), std::string::npos) << err;
+  const std::string empty = tempPath("empty.lcm");
+  {
+    lcm::LogFile log(empty, "w");
+    write(log, "OTHER", gtAt(1, 0.0), 1);
+  }
+  opt.objects_log = empty;
+  EXPECT_FALSE(ucon::mot::evaluateLog(run, opt, nullptr, &err));
+  EXPECT_NE(err.find("no decodable PERCEPTION_OBJECTS"), std::string::npos) << err;
+  EXPECT_NE(err.find(empty), std::string::npos) << err;
+  std::remove(run.c_str());
+  std::remove(replay.c_str());
+  std::remove(empty.c_str());
+}

@@ -33,68 +33,81 @@ std::optional<ClearMotSummary> evaluateLog(const std::string& path, const LogEva
     return std::nullopt;
   };
 
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return fail("cannot open '" + path + "'");
-  {
-    FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) return fail("cannot open '" + path + "'");
-    uint8_t head[4] = {0, 0, 0, 0};
-    const size_t n = std::fread(head, 1, 4, f);
-    std::fclose(f);
-    if (n < 4 || !std::equal(head, head + 4, kSync))
-      return fail("'" + path + "' is not an LCM log (no sync word 0xEDA1DA01 at its start)");
-  }
-
-  lcm::LogFile log(path, "r");
-  if (!log.good()) return fail("cannot open '" + path + "' as an LCM log");
-
+  auto bad = [&](const std::string& what) {
+    fail(what);
+    return false;
+  };
   std::vector<sim_ground_truth_t> gts;
   std::vector<tracked_objects_t> frames;
-  long pos = 0;
-  for (;;) {
-    const lcm::LogEvent* ev = log.readNextEvent();
-    const long after = std::ftell(log.getFilePtr());
-    if (!ev) {
-      // Bytes after the last complete event that do not form an event: a truncated tail.
-      if (pos < static_cast<long>(st.st_size)) {
+  // Reads one log, keeping the ground truth and/or the perception frames; false on a file that
+  // cannot be read as an LCM log (the reason in *error).
+  auto scan = [&](const std::string& file, bool take_gt, bool take_frames) -> bool {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) return bad("cannot open '" + file + "'");
+    {
+      FILE* f = std::fopen(file.c_str(), "rb");
+      if (!f) return bad("cannot open '" + file + "'");
+      uint8_t head[4] = {0, 0, 0, 0};
+      const size_t n = std::fread(head, 1, 4, f);
+      std::fclose(f);
+      if (n < 4 || !std::equal(head, head + 4, kSync))
+        return bad("'" + file + "' is not an LCM log (no sync word 0xEDA1DA01 at its start)");
+    }
+    lcm::LogFile log(file, "r");
+    if (!log.good()) return bad("cannot open '" + file + "' as an LCM log");
+    long pos = 0;
+    int64_t events = 0;
+    for (;;) {
+      const lcm::LogEvent* ev = log.readNextEvent();
+      const long after = std::ftell(log.getFilePtr());
+      if (!ev) {
+        // Bytes after the last complete event that do not form an event: a truncated tail.
+        if (pos < static_cast<long>(st.st_size) && !stats.truncated) {
+          stats.truncated = true;
+          stats.warning = "'" + file + "' is truncated or corrupt after byte " + std::to_string(pos) + " of " +
+                          std::to_string(static_cast<long long>(st.st_size)) + " (" + std::to_string(events) +
+                          " events read)";
+        }
+        break;
+      }
+      const long expected = kEventHeaderBytes + static_cast<long>(ev->channel.size()) + ev->datalen;
+      if (after - pos != expected && !stats.truncated) {
+        // lcm::LogFile skipped bytes looking for the next sync word: corrupt data.
         stats.truncated = true;
-        stats.warning = "log is truncated or corrupt after byte " + std::to_string(pos) + " of " +
-                        std::to_string(static_cast<long long>(st.st_size)) + " (" +
-                        std::to_string(stats.events) + " events read)";
+        stats.warning = "corrupt data in '" + file + "' between bytes " + std::to_string(pos) + " and " +
+                        std::to_string(after - expected);
       }
-      break;
-    }
-    const long expected = kEventHeaderBytes + static_cast<long>(ev->channel.size()) + ev->datalen;
-    if (after - pos != expected && !stats.truncated) {
-      // lcm::LogFile skipped bytes looking for the next sync word: corrupt data.
-      stats.truncated = true;
-      stats.warning = "corrupt data in the log between bytes " + std::to_string(pos) + " and " +
-                      std::to_string(after - expected);
-    }
-    pos = after;
-    ++stats.events;
-    if (ev->channel == channels::kSimGroundTruth) {
-      sim_ground_truth_t gt;
-      if (decode(ev, &gt)) {
-        gts.push_back(std::move(gt));
-        ++stats.ground_truth_messages;
-      } else {
-        ++stats.undecodable_messages;
-      }
-    } else if (ev->channel == channels::kPerceptionObjects) {
-      tracked_objects_t t;
-      if (decode(ev, &t)) {
-        frames.push_back(std::move(t));
-        ++stats.perception_messages;
-      } else {
-        ++stats.undecodable_messages;
+      pos = after;
+      ++events;
+      ++stats.events;
+      if (take_gt && ev->channel == channels::kSimGroundTruth) {
+        sim_ground_truth_t gt;
+        if (decode(ev, &gt)) {
+          gts.push_back(std::move(gt));
+          ++stats.ground_truth_messages;
+        } else {
+          ++stats.undecodable_messages;
+        }
+      } else if (take_frames && ev->channel == channels::kPerceptionObjects) {
+        tracked_objects_t t;
+        if (decode(ev, &t)) {
+          frames.push_back(std::move(t));
+          ++stats.perception_messages;
+        } else {
+          ++stats.undecodable_messages;
+        }
       }
     }
-  }
+    return true;
+  };
+  const bool separate = !opt.objects_log.empty();
+  if (!scan(path, true, !separate)) return std::nullopt;
+  if (separate && !scan(opt.objects_log, false, true)) return std::nullopt;
+  const std::string& objects_file = separate ? opt.objects_log : path;
   if (stats.truncated && !opt.allow_truncated)
-    return fail("'" + path + "': " + stats.warning + "; use --allow-truncated to evaluate the rest");
+    return fail(stats.warning + "; use --allow-truncated to evaluate the rest");
   if (gts.empty()) return fail("'" + path + "' holds no decodable SIM_GROUND_TRUTH message");
-  if (frames.empty()) return fail("'" + path + "' holds no decodable PERCEPTION_OBJECTS message");
+  if (frames.empty()) return fail("'" + objects_file + "' holds no decodable PERCEPTION_OBJECTS message");
 
   // Log order is receive order; evaluate in message time.
   std::stable_sort(gts.begin(), gts.end(),

@@ -15,6 +15,9 @@ namespace mot {
 
 struct LogEvalOptions : RuntimeEvalOptions {
   bool allow_truncated = false;  ///< evaluate what was read before a truncated/corrupt tail
+  /// When set, PERCEPTION_OBJECTS come from this log instead (e.g. `ucon-replay --node
+  /// perception`'s output for the log that holds the ground truth).
+  std::string objects_log;
 };
 
 /// What the log held.
@@ -30,7 +33,7 @@ struct LogMatchStats {
   std::string warning;                      ///< why `truncated` is set
 };
 
-/// Reads the log and evaluates it. Returns nullopt with `error` set when the file cannot be
+/// Reads the log (and opt.objects_log) and evaluates it. Returns nullopt with `error` set when the file cannot be
 /// opened, is not an LCM log, holds no perception or no ground-truth messages, or is
 /// truncated/corrupt (unless opt.allow_truncated).
 std::optional<ClearMotSummary> evaluateLog(const std::string& path, const LogEvalOptions& opt,
