@@ -317,8 +317,53 @@ TEST(LioOdometry, GivenFramesDuringTheStartUpStandstillThenTheFirstMapIsBuiltFro
     }
     EXPECT_EQ(one.counters().standstill_frames, 0);
     EXPECT_FALSE(r.empty());
-    if (!r.empty()) EXPECT_EQ(r.front().result, FrameResult::kMapStarted);
+    if (!r.empty()) {
+      EXPECT_EQ(r.front().result, FrameResult::kMapStarted);
+    }
     return one.map().numPoints();
   }();
   EXPECT_GT(odo.map().numPoints(), 2 * single);
+}
+
+TEST(LioOdometry, GivenAPersonWalkingThroughTheRoomThenTheTraceLeavesTheMapAndTheRoomStays) {
+  // A person walks 1 m/s along x = 6.2 while the robot drives: without carving their points
+  // stay in the map along the way; with it most of the trace behind them is gone and the room's
+  // structure is not. What stays shares a voxel with the floor (the floor's points keep it) or
+  // lies where the rays beyond it go to the open sky (the room has no ceiling): no evidence.
+  world::Scenario sc = test::roomScenario();
+  world::MovingObstacle person;
+  person.radius = 0.25;
+  person.motion.position = Eigen::Vector2d(6.2, -4.0);
+  person.motion.velocity = Eigen::Vector2d(0.0, 1.0);
+  sc.movers.push_back(person);
+  auto traceAndTotal = [](const world::Scenario& s, int carve_every, int64_t* carved) {
+    test::SyntheticRun run(world::World(s), test::curvyDrive(1.0, 1.0, 0.6), noisy());
+    LioParams p = params();
+    p.map_carve_every = carve_every;
+    LioOdometry odo(p);
+    run.run(odo, 7.0, [](const PoseEstimate&) {}, nullptr);
+    std::size_t trace = 0;  // where the person was more than 1.5 s before the end
+    for (const Eigen::Vector3f& q : odo.map().points())
+      if (std::fabs(q.x() - 6.2f) < 0.5f && q.y() > -4.5f && q.y() < 1.5f && q.z() > 0.3f && q.z() < 1.5f) {
+        ++trace;
+      }
+    *carved = odo.counters().map_voxels_carved;
+    return std::make_pair(trace, odo.map().numPoints());
+  };
+  int64_t carved_off = 0, carved_on = 0, carved_static = 0;
+  const auto off = traceAndTotal(sc, 0, &carved_off);
+  const auto on = traceAndTotal(sc, LioParams{}.map_carve_every, &carved_on);
+  const auto room = traceAndTotal(test::roomScenario(), LioParams{}.map_carve_every, &carved_static);
+  std::printf("trace points: %zu without carving, %zu with (%lld voxels carved); map %zu / %zu points, "
+              "room alone %zu (%lld carved)\n",
+              off.first, on.first, static_cast<long long>(carved_on), off.second, on.second, room.second,
+              static_cast<long long>(carved_static));
+  EXPECT_EQ(carved_off, 0);
+  EXPECT_GT(off.first, 50u);
+  EXPECT_LT(on.first, off.first / 4);
+  EXPECT_GT(carved_on, 0);
+  // The room itself barely loses anything.
+  const auto room_off = traceAndTotal(test::roomScenario(), 0, &carved_off);
+  std::printf("room alone: %zu points with carving, %zu without\n", room.second, room_off.second);
+  EXPECT_GT(static_cast<double>(room.second), 0.97 * static_cast<double>(room_off.second));
 }

@@ -115,6 +115,74 @@ TEST(VoxelMap, GivenBoundsThenTheLeastRecentVoxelsAndTheFarOnesGo) {
   EXPECT_EQ(map.points().front(), Eigen::Vector3f(30.5f, 0.5f, 0.5f));
 }
 
+namespace {
+// A scan from a sensor at the origin, 0.4 m above a floor (z = -0.4), of a wall at x = 6
+// (|y| < 4, z up to 2 m) and of the floor between: points in the sensor frame, one per 0.5 deg
+// of azimuth and elevation where a ray meets the wall or the floor within 8 m.
+std::vector<Eigen::Vector3f> roomScan() {
+  std::vector<Eigen::Vector3f> out;
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  for (double az = -60.0; az <= 60.0; az += 0.5)
+    for (double el = -30.0; el <= 50.0; el += 0.5) {
+      const Eigen::Vector3d dir(std::cos(el * kDeg) * std::cos(az * kDeg), std::cos(el * kDeg) * std::sin(az * kDeg),
+                                std::sin(el * kDeg));
+      double t = 6.0 / dir.x();  // the wall
+      if (dir.z() < 0.0) t = std::min(t, -0.4 / dir.z());  // the floor
+      const Eigen::Vector3d p = t * dir;
+      if (t > 8.0 || std::fabs(p.y()) > 4.0 || p.z() > 2.0) continue;
+      out.push_back(p.cast<float>());
+    }
+  return out;
+}
+}  // namespace
+
+TEST(VoxelMap, GivenAScanThatSeesThroughAVoxelThenItIsCarvedAfterTheMissesUnlessTouched) {
+  VoxelMapParams prm;  // the shipped carve parameters are the defaults
+  prm.carve_misses = 3;
+  VoxelMap map(prm);
+  const std::vector<Eigen::Vector3f> scan = roomScan();
+  map.insert(scan);  // the wall and the floor (sensor at the world origin, no rotation)
+  const std::size_t room_voxels = map.numVoxels();
+  // A person's trace between the sensor and the wall, and a box behind the wall.
+  const Eigen::Vector3f ghost(3.0f, 0.2f, 0.6f), hidden(7.0f, 0.2f, 0.6f);
+  ASSERT_TRUE(map.insert(ghost));
+  ASSERT_TRUE(map.insert(hidden));
+  Neighbours nb;
+  const Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  // Two carves see through the trace; a point falling into its voxel resets the count.
+  EXPECT_EQ(map.carve(Eigen::Vector3d::Zero(), R, scan), 0u);
+  EXPECT_EQ(map.carve(Eigen::Vector3d::Zero(), R, scan), 0u);
+  map.insert(Eigen::Vector3f(3.05f, 0.25f, 0.65f));
+  EXPECT_EQ(map.carve(Eigen::Vector3d::Zero(), R, scan), 0u);
+  EXPECT_EQ(map.carve(Eigen::Vector3d::Zero(), R, scan), 0u);
+  EXPECT_EQ(map.nearest(ghost, 1, 0.1f, &nb), 1);
+  // The third miss in a row drops it; the wall, the floor and what the wall hides stay.
+  EXPECT_EQ(map.carve(Eigen::Vector3d::Zero(), R, scan), 1u);
+  EXPECT_EQ(map.nearest(ghost, 1, 0.3f, &nb), 0);
+  EXPECT_EQ(map.nearest(hidden, 1, 0.01f, &nb), 1);
+  EXPECT_EQ(map.numVoxels(), room_voxels + 1);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(map.carve(Eigen::Vector3d::Zero(), R, scan), 0u) << k;
+  EXPECT_EQ(map.numVoxels(), room_voxels + 1);
+}
+
+TEST(VoxelMap, GivenTheSensorMovedAndTurnedThenCarvingUsesItsPose) {
+  // The same room seen from a sensor at (1, 2, 0) turned 90 deg: the scan, in the sensor frame,
+  // is the room rotated; the trace is still carved and nothing of the room goes.
+  VoxelMapParams prm;
+  prm.carve_misses = 1;
+  VoxelMap map(prm);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 2.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d origin(1.0, 2.0, 0.0);
+  const std::vector<Eigen::Vector3f> scan = roomScan();  // sensor frame
+  for (const auto& p : scan) map.insert((R * p.cast<double>() + origin).cast<float>());
+  const std::size_t room_voxels = map.numVoxels();
+  const Eigen::Vector3f ghost = (R * Eigen::Vector3d(3.0, 0.2, 0.6) + origin).cast<float>();
+  ASSERT_TRUE(map.insert(ghost));
+  EXPECT_EQ(map.carve(origin, R, scan), 1u);
+  EXPECT_EQ(map.numVoxels(), room_voxels);
+  EXPECT_EQ(map.carve(origin, R, scan), 0u);  // nothing else is seen through
+}
+
 TEST(VoxelMap, GivenTheSameInsertionsThenTheSameAnswers) {
   VoxelMapParams p;
   const auto pts = randomCloud(5000, 4.0, 3);

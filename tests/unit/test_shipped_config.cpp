@@ -278,6 +278,11 @@ TEST(ShippedConfig, GivenOdometryYamlWhenLoadedThenEveryFieldEqualsTheInClassDef
   c.expect("map.neighbourhood", s.lio.map.neighbourhood, d.lio.map.neighbourhood);
   c.expect("map.trim_every_m", s.lio.map_trim_every_m, d.lio.map_trim_every_m);
   c.expect("map.insert_max_residual", s.lio.map_insert_max_residual, d.lio.map_insert_max_residual);
+  c.expect("map.carve_every", s.lio.map_carve_every, d.lio.map_carve_every);
+  c.expect("map.carve_radius", s.lio.map.carve_radius, d.lio.map.carve_radius);
+  c.expect("map.carve_bin_deg", s.lio.map.carve_bin_deg, d.lio.map.carve_bin_deg);
+  c.expect("map.carve_margin", s.lio.map.carve_margin, d.lio.map.carve_margin);
+  c.expect("map.carve_misses", s.lio.map.carve_misses, d.lio.map.carve_misses);
   c.expect("ground_prior.enabled", s.lio.ground_prior, d.lio.ground_prior);
   c.expect("ground_prior.height_std", s.lio.ground_height_std, d.lio.ground_height_std);
   c.expect("ground_prior.tilt_std", s.lio.ground_tilt_std, d.lio.ground_tilt_std);

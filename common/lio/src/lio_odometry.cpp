@@ -598,6 +598,11 @@ void LioOdometry::update(const std::vector<Eigen::Vector3f>& pts, const NavState
     if (has[i] && std::fabs(planes[i].distance(q)) > p_.map_insert_max_residual) continue;
     map_.insert(q.cast<float>());
   }
+  // What this scan sees through (a person who walked on) leaves the map.
+  if (p_.map_carve_every > 0 && ++updates_since_carve_ >= p_.map_carve_every) {
+    updates_since_carve_ = 0;
+    n_.map_voxels_carved += static_cast<int64_t>(map_.carve(x.p, x.R, undistorted_));
+  }
   const Eigen::Vector3d pb = basePosition(x);
   if ((pb - last_trim_position_).norm() > p_.map_trim_every_m) {
     map_.removeFar(pb);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ucon {
 namespace lio {
@@ -50,6 +51,7 @@ struct VoxelMap::Impl {
   struct Slot {
     uint64_t key = 0;
     int32_t prev = -1, next = -1;  // LRU list: head = most recently updated
+    int32_t misses = 0;            // carve(): seen through since the last insert() touched it
   };
   // The index's value: the voxel's slot and its point count, so that a query reads the count
   // from the bucket it has just loaded instead of from another cache line.
@@ -108,6 +110,7 @@ struct VoxelMap::Impl {
       pts.resize(pts.size() + static_cast<std::size_t>(3 * cap));
     }
     slots[static_cast<std::size_t>(s)].key = key;
+    slots[static_cast<std::size_t>(s)].misses = 0;
     pushFront(s);
     return index.emplace(key, Entry{s, 0}).first;
   }
@@ -158,6 +161,7 @@ bool VoxelMap::insert(const Eigen::Vector3f& p) {
     m.unlink(it->second.slot);
     m.pushFront(it->second.slot);
   }
+  m.slots[static_cast<std::size_t>(it->second.slot)].misses = 0;
   const int count = it->second.count;
   if (count >= m.cap) return false;
   float* xs = &m.pts[m.block(it->second.slot)];
@@ -249,6 +253,61 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
   }
   out->count = n;
   return n;
+}
+
+std::size_t VoxelMap::carve(const Eigen::Vector3d& origin, const Eigen::Matrix3d& R,
+                            const std::vector<Eigen::Vector3f>& points) {
+  Impl& m = *impl_;
+  constexpr double kPi = 3.14159265358979323846;
+  const double bin = params_.carve_bin_deg * kPi / 180.0;
+  if (!(bin > 0.0) || !(params_.carve_radius > 0.0) || !origin.allFinite() || !R.allFinite()) return 0;
+  // Range image over azimuth [-pi, pi) and elevation [-pi/2, pi/2]: the nearest return per bin.
+  const int n_az = std::max(1, static_cast<int>(std::ceil(2.0 * kPi / bin)));
+  const int n_el = std::max(1, static_cast<int>(std::ceil(kPi / bin)));
+  std::vector<float> nearest(static_cast<std::size_t>(n_az) * static_cast<std::size_t>(n_el),
+                             std::numeric_limits<float>::infinity());
+  auto binOf = [&](double x, double y, double z, double r) {
+    const int a = std::clamp(static_cast<int>((std::atan2(y, x) + kPi) / bin), 0, n_az - 1);
+    const int e = std::clamp(static_cast<int>((std::asin(std::clamp(z / r, -1.0, 1.0)) + 0.5 * kPi) / bin), 0,
+                             n_el - 1);
+    return static_cast<std::size_t>(e) * static_cast<std::size_t>(n_az) + static_cast<std::size_t>(a);
+  };
+  for (const Eigen::Vector3f& p : points) {
+    if (!p.allFinite()) continue;
+    const double r = p.cast<double>().norm();
+    if (!(r > 1e-3)) continue;
+    float& b = nearest[binOf(p.x(), p.y(), p.z(), r)];
+    b = std::min(b, static_cast<float>(r));
+  }
+  // Every voxel, in LRU order (deterministic); the key's cell gives a cheap distance test
+  // before the centroid is computed.
+  const Eigen::Matrix3d Rt = R.transpose();
+  const double rad = params_.carve_radius, margin = params_.carve_margin;
+  const double tan_bin = std::tan(bin);
+  const double reach = rad + m.voxel, dz_max = std::min(rad, 3.0) + m.voxel;
+  std::vector<int32_t> doomed;
+  for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
+    const Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
+    const Eigen::Vector3d vc((field(sl.key, 2 * kBits) + 0.5) * m.voxel, (field(sl.key, kBits) + 0.5) * m.voxel,
+                             (field(sl.key, 0) + 0.5) * m.voxel);
+    if ((vc - origin).squaredNorm() > reach * reach || std::fabs(vc.z() - origin.z()) > dz_max) continue;
+    const auto it = m.index.find(sl.key);
+    const int count = it->second.count;
+    if (count <= 0) continue;
+    const float* xs = &m.pts[m.block(s)];
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int i = 0; i < count; ++i) c += Eigen::Vector3d(xs[i], xs[m.cap + i], xs[2 * m.cap + i]);
+    const Eigen::Vector3d d = Rt * (c / count - origin);
+    const double r = d.norm();
+    if (!(r > 1e-3) || r > rad) continue;
+    const float seen = nearest[binOf(d.x(), d.y(), d.z(), r)];
+    // No ray there, or one ended at or before it (within the margin plus the bin's width
+    // there: a coarse bin at a grazing angle holds returns from both sides of the centroid).
+    if (!std::isfinite(seen) || seen <= r + margin + r * tan_bin) continue;
+    if (++m.slots[static_cast<std::size_t>(s)].misses >= params_.carve_misses) doomed.push_back(s);
+  }
+  for (int32_t s : doomed) m.drop(s);
+  return doomed.size();
 }
 
 std::size_t VoxelMap::removeFar(const Eigen::Vector3d& center) {

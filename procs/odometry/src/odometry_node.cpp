@@ -322,6 +322,7 @@ StatusReport& OdometryNode::status() {
   status_.setCounter("frames_skipped", n.frames_skipped);
   status_.setCounter("frames_dropped", n.frames_dropped + frames_bad_);
   status_.setCounter("standstill_frames", n.standstill_frames);
+  status_.setCounter("map_voxels_carved", n.map_voxels_carved);
   status_.setCounter("points_dropped", points_dropped_);
   status_.setCounter("poses_out", poses_out_);
   status_.setCounter("poses_invalid", poses_invalid_);

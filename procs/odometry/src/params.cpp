@@ -84,6 +84,11 @@ void OdometryParams::read(ConfigReader& r) {
     p.map.neighbourhood = static_cast<lio::Neighbourhood>(nbh);
     s.read("trim_every_m", p.map_trim_every_m, 0.01, 1000.0);
     s.read("insert_max_residual", p.map_insert_max_residual, 1e-3, 10.0);
+    s.read("carve_every", p.map_carve_every, 0, 1000);
+    s.read("carve_radius", p.map.carve_radius, 0.5, 100.0);
+    s.read("carve_bin_deg", p.map.carve_bin_deg, 0.1, 30.0);
+    s.read("carve_margin", p.map.carve_margin, 0.0, 10.0);
+    s.read("carve_misses", p.map.carve_misses, 1, 1000);
   }
   {
     auto s = r.section("ground_prior");

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <malloc.h>
 #include <regex>
 #include <sys/time.h>
 
@@ -170,6 +171,10 @@ int NodeRuntime::loop(const std::function<int()>& timeout_ms, const std::functio
     if (!status_channel_.empty() && now >= next_status_) {
       publishStatus();
       next_status_ = now + std::chrono::microseconds(static_cast<int64_t>(status_period_s_ * 1e6));
+    }
+    if (trim_period_s_ > 0.0 && now >= next_trim_) {
+      if (next_trim_ != std::chrono::steady_clock::time_point{}) ::malloc_trim(0);
+      next_trim_ = now + std::chrono::microseconds(static_cast<int64_t>(trim_period_s_ * 1e6));
     }
   }
   return 0;

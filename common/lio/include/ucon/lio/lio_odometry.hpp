@@ -106,6 +106,8 @@ struct LioParams {
   // Map.
   VoxelMapParams map;
   double map_trim_every_m = 2.0;    ///< removeFar() after the robot moved this far [m]
+  /// VoxelMap::carve() with the undistorted scan after every this many updates; 0 = never.
+  int map_carve_every = 5;
 
   // Ground-robot prior (optional): the base starts level (roll and pitch 0 at start, so the
   // standstill's horizontal specific force is accelerometer bias, not tilt) and its height and
@@ -204,6 +206,7 @@ struct LioCounters {
   int64_t imu_in = 0, imu_out_of_order = 0, imu_non_finite = 0, imu_gaps = 0, reinitialisations = 0;
   int64_t frames_in = 0, frames_updated = 0, frames_skipped = 0, frames_dropped = 0;
   int64_t standstill_frames = 0;  ///< frames of the start-up standstill the first map was built from
+  int64_t map_voxels_carved = 0;  ///< voxels dropped because the scans saw through them
 };
 
 /// Ground-robot prior, base height: r = z of the base origin p - R t_imu [m], with its
@@ -307,6 +310,7 @@ class LioOdometry {
   int64_t last_frame_end_ns_ = 0;
   int64_t last_update_ns_ = 0;
   Eigen::Vector3d last_trim_position_ = Eigen::Vector3d::Zero();
+  int updates_since_carve_ = 0;
 
   // Scratch (sized per frame, reused).
   std::vector<Segment> segments_;
