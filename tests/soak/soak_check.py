@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Judges a soak run (tests/soak/soak.sh): per-process resident memory after the warm-up, the
-logger's loss counters, restarts and early exits, collisions. Prints a table and a verdict,
+logger's loss counters, restarts and early exits, collisions. Memory growth is the level held
+at the end (the median of the last --level-window-s of samples) against the level after the
+warm-up (the median of the first window after it): a burst that is handed back is not growth,
+and the peak is reported beside it. Prints a table and a verdict,
 writes the figures as JSON, exits 0 when every check passes and 1 otherwise."""
 import argparse
 import csv
@@ -41,7 +44,13 @@ def last_counters(path):
     return None
 
 
-def judge(series, warmup_s, max_growth_pct, counters, summary, exited, stop_reason):
+def median(values):
+    v = sorted(values)
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def judge(series, warmup_s, max_growth_pct, counters, summary, exited, stop_reason, window_s=60.0):
     """Returns (checks, per-process figures); each check is (ok, text)."""
     checks, procs = [], {}
     for name, samples in sorted(series.items()):
@@ -50,18 +59,21 @@ def judge(series, warmup_s, max_growth_pct, counters, summary, exited, stop_reas
         fig = {"samples": len(samples), "rss_kb_first": samples[0][1], "rss_kb_end": samples[-1][1],
                "rss_kb_max": max(s[1] for s in samples), "restarts": max(s[2] for s in samples)}
         if after:
-            base = after[0][1]
+            t0, t_end = after[0][0], samples[-1][0]
+            base = median([s[1] for s in after if s[0] < t0 + window_s] or [after[0][1]])
+            held = median([s[1] for s in after if s[0] >= t_end - window_s] or [after[-1][1]])
             peak = max(s[1] for s in after)
             # Not judged, for the diagnosis: memory that fills up (a map of the same room)
             # levels off, a leak keeps the pace of the first half in the second.
-            mid = next(s for s in samples if s[0] >= (after[0][0] + samples[-1][0]) / 2)
-            fig.update({"rss_kb_at_warmup": base, "rss_kb_max_after_warmup": peak,
-                        "growth_pct_end": 100.0 * (samples[-1][1] - base) / base,
+            mid = next(s for s in samples if s[0] >= (t0 + t_end) / 2)
+            fig.update({"rss_kb_at_warmup": base, "rss_kb_held_at_end": held, "rss_kb_max_after_warmup": peak,
+                        "growth_pct_held": 100.0 * (held - base) / base,
                         "growth_pct_max": 100.0 * (peak - base) / base,
                         "growth_pct_second_half": 100.0 * (samples[-1][1] - mid[1]) / mid[1]})
-            checks.append((fig["growth_pct_max"] <= max_growth_pct,
-                           f"{name}: RSS {base} kB at {after[0][0]:.0f} s, at most {peak} kB later "
-                           f"(+{fig['growth_pct_max']:.1f} % <= {max_growth_pct:g} %)"))
+            checks.append((fig["growth_pct_held"] <= max_growth_pct,
+                           f"{name}: RSS {base:.0f} kB after the warm-up, {held:.0f} kB held at the end "
+                           f"(+{fig['growth_pct_held']:.1f} % <= {max_growth_pct:g} %; peak {peak} kB, "
+                           f"+{fig['growth_pct_max']:.1f} %)"))
         else:
             checks.append((False, f"{name}: no memory sample after the warm-up ({warmup_s:g} s)"))
         checks.append((fig["restarts"] == 0, f"{name}: restarts {fig['restarts']} == 0"))
@@ -95,6 +107,8 @@ def main(argv=None):
     ap.add_argument("--exited-before-end", default="", help="processes that exited during the run")
     ap.add_argument("--warmup-s", type=float, default=60.0)
     ap.add_argument("--max-growth-pct", type=float, default=5.0)
+    ap.add_argument("--level-window-s", type=float, default=60.0,
+                    help="memory level = median of the samples in this window after the warm-up / at the end")
     ap.add_argument("--wall-s", type=float, default=float("nan"))
     ap.add_argument("--minutes", type=float, default=float("nan"))
     ap.add_argument("--scenario", default="")
@@ -108,14 +122,15 @@ def main(argv=None):
         summary = None
     counters = last_counters(a.logger_status)
     checks, procs = judge(series, a.warmup_s, a.max_growth_pct, counters, summary,
-                          a.exited_before_end.split(), a.stop_reason)
+                          a.exited_before_end.split(), a.stop_reason, window_s=a.level_window_s)
     ok = all(c[0] for c in checks)
 
-    print(f"{'process':<16} {'RSS@warm-up':>12} {'RSS end':>10} {'max after':>10} {'growth':>8} "
-          f"{'2nd half':>8} {'restarts':>8}")
+    print(f"{'process':<16} {'RSS@warm-up':>12} {'held@end':>10} {'max after':>10} {'growth':>8} "
+          f"{'peak':>8} {'2nd half':>8} {'restarts':>8}")
     for name, f in procs.items():
-        print(f"{name:<16} {f.get('rss_kb_at_warmup', -1):>9} kB {f['rss_kb_end']:>7} kB "
-              f"{f.get('rss_kb_max_after_warmup', -1):>7} kB {f.get('growth_pct_max', float('nan')):>+7.1f}% "
+        print(f"{name:<16} {f.get('rss_kb_at_warmup', -1):>9.0f} kB {f.get('rss_kb_held_at_end', -1):>7.0f} kB "
+              f"{f.get('rss_kb_max_after_warmup', -1):>7} kB {f.get('growth_pct_held', float('nan')):>+7.1f}% "
+              f"{f.get('growth_pct_max', float('nan')):>+7.1f}% "
               f"{f.get('growth_pct_second_half', float('nan')):>+7.1f}% {f['restarts']:>8}")
     for good, text in checks:
         print(("ok:   " if good else "FAIL: ") + text)
