@@ -73,6 +73,9 @@ struct VoxelMap::Impl {
   float voxel = 0.5f, inv_voxel = 2.0f, spacing2 = 0.01f;
   int64_t max_voxels = 200000;
   std::vector<Eigen::Vector3i> offsets;  // own voxel first
+  // carve()'s scratch, kept between calls: the range image and the voxels to drop.
+  std::vector<float> range_image;
+  std::vector<int32_t> doomed;
 
   std::size_t block(int32_t s) const { return static_cast<std::size_t>(s) * static_cast<std::size_t>(3 * cap); }
   void unlink(int32_t s) {
@@ -264,8 +267,9 @@ std::size_t VoxelMap::carve(const Eigen::Vector3d& origin, const Eigen::Matrix3d
   // Range image over azimuth [-pi, pi) and elevation [-pi/2, pi/2]: the nearest return per bin.
   const int n_az = std::max(1, static_cast<int>(std::ceil(2.0 * kPi / bin)));
   const int n_el = std::max(1, static_cast<int>(std::ceil(kPi / bin)));
-  std::vector<float> nearest(static_cast<std::size_t>(n_az) * static_cast<std::size_t>(n_el),
-                             std::numeric_limits<float>::infinity());
+  std::vector<float>& nearest = m.range_image;
+  nearest.assign(static_cast<std::size_t>(n_az) * static_cast<std::size_t>(n_el),
+                 std::numeric_limits<float>::infinity());
   auto binOf = [&](double x, double y, double z, double r) {
     const int a = std::clamp(static_cast<int>((std::atan2(y, x) + kPi) / bin), 0, n_az - 1);
     const int e = std::clamp(static_cast<int>((std::asin(std::clamp(z / r, -1.0, 1.0)) + 0.5 * kPi) / bin), 0,
@@ -285,7 +289,8 @@ std::size_t VoxelMap::carve(const Eigen::Vector3d& origin, const Eigen::Matrix3d
   const double rad = params_.carve_radius, margin = params_.carve_margin;
   const double tan_bin = std::tan(bin);
   const double reach = rad + m.voxel, dz_max = std::min(rad, 3.0) + m.voxel;
-  std::vector<int32_t> doomed;
+  std::vector<int32_t>& doomed = m.doomed;
+  doomed.clear();
   for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
     const Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
     const Eigen::Vector3d vc((field(sl.key, 2 * kBits) + 0.5) * m.voxel, (field(sl.key, kBits) + 0.5) * m.voxel,

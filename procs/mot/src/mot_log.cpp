@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <sys/stat.h>
+#include <type_traits>
 #include <vector>
 
 #include "ucon/channels.hpp"
@@ -39,6 +40,16 @@ std::optional<ClearMotSummary> evaluateLog(const std::string& path, const LogEva
   };
   std::vector<sim_ground_truth_t> gts;
   std::vector<tracked_objects_t> frames;
+  // Decodes an event into `out` (counted in *n) or counts it undecodable.
+  auto keep = [&](const lcm::LogEvent* ev, auto* out, int64_t* n) {
+    typename std::remove_pointer_t<decltype(out)>::value_type msg;
+    if (decode(ev, &msg)) {
+      out->push_back(std::move(msg));
+      ++*n;
+    } else {
+      ++stats.undecodable_messages;
+    }
+  };
   // Reads one log, keeping the ground truth and/or the perception frames; false on a file that
   // cannot be read as an LCM log (the reason in *error).
   auto scan = [&](const std::string& file, bool take_gt, bool take_frames) -> bool {
@@ -81,21 +92,9 @@ std::optional<ClearMotSummary> evaluateLog(const std::string& path, const LogEva
       ++events;
       ++stats.events;
       if (take_gt && ev->channel == channels::kSimGroundTruth) {
-        sim_ground_truth_t gt;
-        if (decode(ev, &gt)) {
-          gts.push_back(std::move(gt));
-          ++stats.ground_truth_messages;
-        } else {
-          ++stats.undecodable_messages;
-        }
+        keep(ev, &gts, &stats.ground_truth_messages);
       } else if (take_frames && ev->channel == channels::kPerceptionObjects) {
-        tracked_objects_t t;
-        if (decode(ev, &t)) {
-          frames.push_back(std::move(t));
-          ++stats.perception_messages;
-        } else {
-          ++stats.undecodable_messages;
-        }
+        keep(ev, &frames, &stats.perception_messages);
       }
     }
     return true;
