@@ -140,7 +140,9 @@ double angleDeg(const Eigen::Matrix3d& R) { return logSO3(R).norm() * 180.0 / M_
 
 // The reference transform's own accuracy is not stated (the source project's test accepts
 // 2.5 deg and 0.2 m). What this core finds is the same in both directions (0.02 deg, 6 mm
-// apart) and 0.15 deg off the reference, about one horizontal axis, either way.
+// apart) and 0.15 deg off the reference, about one horizontal axis, either way. Other libraries
+// land farther off about that axis on the other side (Open3D 0.23-0.32 deg, PCL's GICP
+// 0.41-0.68 deg; docs/experiments.md): the pair does not fix that rotation to 0.1 deg.
 // Asserted: 2 cm of the reference; 0.2 deg of it (the 0.1 deg asked for is not met against
 // this reference, see procs/odometry/README.md); both directions agree within 0.05 deg, 1 cm.
 TEST(LidarPair, GivenTwoRealScansFromIdentityThenTheRegistrationCoreFindsTheReferenceTransform) {
@@ -162,11 +164,12 @@ TEST(LidarPair, GivenTwoRealScansFromIdentityThenTheRegistrationCoreFindsTheRefe
   const Eigen::Isometry3d T_inv = align(target, source);
   const double dt = (T.translation() - T_ref.translation()).norm();
   const double dr = angleDeg(T.linear().transpose() * T_ref.linear());
+  const Eigen::Vector3d axis = logSO3(T.linear().transpose() * T_ref.linear()).normalized();
   const Eigen::Isometry3d loop = T * T_inv;
-  std::printf("against the reference: %.4f m, %.4f deg (start: %.3f m, %.3f deg); the two directions differ by "
-              "%.4f m, %.4f deg\n",
-              dt, dr, T_ref.translation().norm(), angleDeg(T_ref.linear()), loop.translation().norm(),
-              angleDeg(loop.linear()));
+  std::printf("against the reference: %.4f m, %.4f deg about (%.2f %.2f %.2f) (start: %.3f m, %.3f deg); the two "
+              "directions differ by %.4f m, %.4f deg\n",
+              dt, dr, axis.x(), axis.y(), axis.z(), T_ref.translation().norm(), angleDeg(T_ref.linear()),
+              loop.translation().norm(), angleDeg(loop.linear()));
   EXPECT_LT(dt, 0.02);
   EXPECT_LT(dr, 0.2);
   EXPECT_LT(loop.translation().norm(), 0.01);

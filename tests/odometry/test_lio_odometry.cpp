@@ -137,6 +137,45 @@ TEST(LioOdometry, GivenADriveThroughARoomThenThePoseFollowsTheTruthWithinCentime
   EXPECT_GT(reports.back().points_matched, reports.back().points_used / 2);
 }
 
+// A large open scene keeps many points after downsampling; max_points bounds the update's work
+// with evenly spaced ones of them (all directions kept: the room stays constrained every way).
+TEST(LioOdometry, GivenMorePointsThanMaxPointsThenEvenlySpacedOnesOfThemRegister) {
+  LioParams all = params();
+  all.max_points = 0;
+  int fewest = 1 << 30;
+  {
+    test::SyntheticRun run(world::World(test::roomScenario()), test::curvyDrive(1.0, 1.0, 0.6), noisy());
+    LioOdometry odo(all);
+    std::vector<FrameReport> reports;
+    run.run(odo, 3.0, [](const PoseEstimate&) {}, &reports);
+    for (const auto& r : reports)
+      if (r.result == FrameResult::kUpdated) fewest = std::min(fewest, r.points_used);
+  }
+  ASSERT_GT(fewest, 300) << "the synthetic room keeps more than the cap below";
+
+  LioParams capped = params();
+  capped.max_points = 150;
+  ASSERT_EQ(capped.validate(), "");
+  test::SyntheticRun run(world::World(test::roomScenario()), test::curvyDrive(1.0, 1.0, 0.6), noisy());
+  LioOdometry odo(capped);
+  std::vector<FrameReport> reports;
+  PoseEstimate last;
+  run.run(odo, 3.0, [&](const PoseEstimate& e) { last = e; }, &reports);
+  int updated = 0;
+  for (const auto& r : reports) {
+    if (r.result != FrameResult::kUpdated) continue;
+    ++updated;
+    EXPECT_EQ(r.points_used, 150);
+    EXPECT_GT(r.info_translation.minCoeff(), 1e3) << "a direction lost: the kept points are not spread";
+  }
+  EXPECT_GT(updated, 100);
+  const Eigen::Isometry3d T = run.basePose(last.t_ns * 1e-9);
+  EXPECT_LT((odo.basePosition(last.x) - T.translation()).norm(), 0.05);
+
+  capped.max_points = capped.min_points - 1;
+  EXPECT_NE(capped.validate().find("points.max_points"), std::string::npos);
+}
+
 TEST(LioOdometry, GivenFramesStopThenImuOnlyForHalfASecondThenInvalidUntilFramesReturn) {
   test::SyntheticRun run(world::World(test::roomScenario()), test::curvyDrive(1.0, 0.8, 0.4), noisy());
   LioOdometry odo(params());

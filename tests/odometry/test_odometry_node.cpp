@@ -81,6 +81,7 @@ TEST(OdometryParams, GivenTheShippedConfigThenEveryKeyIsReadAndBadValuesAreNamed
                                          {"knn: 5", "knn: 12", "update.knn"},
                                          {"neighbourhood: 6", "neighbourhood: 7", "map.neighbourhood"},
                                          {"max_range: 40.0", "max_range: 0.2", "points.max_range"},
+                                         {"max_points: 1000", "max_points: 50", "points.max_points"},
                                          {"radius: 60.0", "radius: 30.0", "map.radius"},
                                          {"pose_channel: ROBOT_POSE", "pose_channel: POSE", "pose_channel"},
                                          {"gap_s: 0.05", "gap_s: 0.05\n  gap_ss: 1", "imu.gap_ss"}}) {

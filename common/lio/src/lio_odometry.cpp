@@ -67,6 +67,7 @@ std::string LioParams::validate() const {
   if (!(min_range >= 0 && max_range > min_range)) return "points.max_range: must exceed min_range";
   if (!(downsample_voxel >= 0)) return "points.downsample_voxel: must be >= 0";
   if (min_points < 1) return "points.min_points: must be >= 1";
+  if (max_points != 0 && max_points < min_points) return "points.max_points: must be 0 (all) or >= min_points";
   if (max_iterations < 1) return "update.max_iterations: must be >= 1";
   if (knn < 3 || knn > Neighbours::kMax) return "update.knn: must be in [3, 8]";
   if (!(max_correspondence > 0 && plane_threshold > 0 && point_std > 0 && robust_scale > 0 && outlier_distance > 0))
@@ -450,7 +451,14 @@ void LioOdometry::processFrame(const PointFrame& f, FrameReport* rep) {
   rep->points_in_range = static_cast<int>(undistorted_.size());
   const std::vector<int> keep = voxelDownsampleIndices(undistorted_, p_.downsample_voxel);
   used_.clear();
-  for (int i : keep) used_.push_back(undistorted_[static_cast<std::size_t>(i)]);
+  const std::size_t cap = p_.max_points > 0 ? static_cast<std::size_t>(p_.max_points) : keep.size();
+  if (keep.size() <= cap) {
+    for (int i : keep) used_.push_back(undistorted_[static_cast<std::size_t>(i)]);
+  } else {
+    // Evenly spaced over the kept points (scan order sweeps the field of view).
+    for (std::size_t j = 0; j < cap; ++j)
+      used_.push_back(undistorted_[static_cast<std::size_t>(keep[j * keep.size() / cap])]);
+  }
   rep->points_used = static_cast<int>(used_.size());
 
   if (map_.empty()) {

@@ -52,6 +52,8 @@ struct VoxelMap::Impl {
     uint64_t key = 0;
     int32_t prev = -1, next = -1;  // LRU list: head = most recently updated
     int32_t misses = 0;            // carve(): seen through since the last insert() touched it
+    int32_t count = 0;             // points held; 0 for a free slot
+    double sum[3] = {0.0, 0.0, 0.0};  // of the points, in insertion order (carve()'s centroid)
   };
   // The index's value: the voxel's slot and its point count, so that a query reads the count
   // from the bucket it has just loaded instead of from another cache line.
@@ -98,6 +100,7 @@ struct VoxelMap::Impl {
     num_points -= static_cast<std::size_t>(it->second.count);
     index.erase(it);
     unlink(s);
+    sl.count = 0;
     free_slots.push_back(s);
   }
   // A new, empty voxel for `key` (evicting the least recently updated one beyond max_voxels).
@@ -112,8 +115,11 @@ struct VoxelMap::Impl {
       slots.emplace_back();
       pts.resize(pts.size() + static_cast<std::size_t>(3 * cap));
     }
-    slots[static_cast<std::size_t>(s)].key = key;
-    slots[static_cast<std::size_t>(s)].misses = 0;
+    Slot& sl = slots[static_cast<std::size_t>(s)];
+    sl.key = key;
+    sl.misses = 0;
+    sl.count = 0;
+    sl.sum[0] = sl.sum[1] = sl.sum[2] = 0.0;
     pushFront(s);
     return index.emplace(key, Entry{s, 0}).first;
   }
@@ -164,7 +170,8 @@ bool VoxelMap::insert(const Eigen::Vector3f& p) {
     m.unlink(it->second.slot);
     m.pushFront(it->second.slot);
   }
-  m.slots[static_cast<std::size_t>(it->second.slot)].misses = 0;
+  Impl::Slot& slot = m.slots[static_cast<std::size_t>(it->second.slot)];
+  slot.misses = 0;
   const int count = it->second.count;
   if (count >= m.cap) return false;
   float* xs = &m.pts[m.block(it->second.slot)];
@@ -178,6 +185,10 @@ bool VoxelMap::insert(const Eigen::Vector3f& p) {
   ys[count] = p.y();
   zs[count] = p.z();
   it.value().count = count + 1;
+  slot.count = count + 1;
+  slot.sum[0] += static_cast<double>(p.x());
+  slot.sum[1] += static_cast<double>(p.y());
+  slot.sum[2] += static_cast<double>(p.z());
   ++m.num_points;
   return true;
 }
@@ -283,25 +294,23 @@ std::size_t VoxelMap::carve(const Eigen::Vector3d& origin, const Eigen::Matrix3d
     float& b = nearest[binOf(p.x(), p.y(), p.z(), r)];
     b = std::min(b, static_cast<float>(r));
   }
-  // Every voxel, in LRU order (deterministic); the key's cell gives a cheap distance test
-  // before the centroid is computed.
+  // Every voxel, in slot order (one pass over contiguous memory; which voxels go does not
+  // depend on the order); the key's cell gives a cheap distance test before the centroid.
   const Eigen::Matrix3d Rt = R.transpose();
   const double rad = params_.carve_radius, margin = params_.carve_margin;
   const double tan_bin = std::tan(bin);
   const double reach = rad + m.voxel, dz_max = std::min(rad, 3.0) + m.voxel;
   std::vector<int32_t>& doomed = m.doomed;
   doomed.clear();
-  for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
+  const int32_t n_slots = static_cast<int32_t>(m.slots.size());
+  for (int32_t s = 0; s < n_slots; ++s) {
     const Impl::Slot& sl = m.slots[static_cast<std::size_t>(s)];
+    const int count = sl.count;
+    if (count <= 0) continue;
     const Eigen::Vector3d vc((field(sl.key, 2 * kBits) + 0.5) * m.voxel, (field(sl.key, kBits) + 0.5) * m.voxel,
                              (field(sl.key, 0) + 0.5) * m.voxel);
     if ((vc - origin).squaredNorm() > reach * reach || std::fabs(vc.z() - origin.z()) > dz_max) continue;
-    const auto it = m.index.find(sl.key);
-    const int count = it->second.count;
-    if (count <= 0) continue;
-    const float* xs = &m.pts[m.block(s)];
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int i = 0; i < count; ++i) c += Eigen::Vector3d(xs[i], xs[m.cap + i], xs[2 * m.cap + i]);
+    const Eigen::Vector3d c(sl.sum[0], sl.sum[1], sl.sum[2]);
     const Eigen::Vector3d d = Rt * (c / count - origin);
     const double r = d.norm();
     if (!(r > 1e-3) || r > rad) continue;

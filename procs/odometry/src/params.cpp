@@ -55,6 +55,7 @@ void OdometryParams::read(ConfigReader& r) {
     s.read("max_range", p.max_range, 0.1, 500.0);
     s.read("downsample_voxel", p.downsample_voxel, 0.0, 5.0);
     s.read("min_points", p.min_points, 1, 100000);
+    s.read("max_points", p.max_points, 0, 100000);
   }
   {
     auto s = r.section("update");

@@ -84,6 +84,9 @@ struct LioParams {
   double max_range = 40.0;          ///< [m]
   double downsample_voxel = 0.3;    ///< one point per cell of this size per frame [m], >= 0
   int min_points = 100;             ///< fewer points after downsampling: no update [1, 1e5]
+  /// More points than this after downsampling (a large open scene): evenly spaced ones of them
+  /// are kept, in scan order; 0 = all. Bounds the update's time per frame.
+  int max_points = 1000;
 
   // Update.
   int max_iterations = 4;           ///< IEKF iterations, [1, 20]
