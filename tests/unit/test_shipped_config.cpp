@@ -258,6 +258,7 @@ TEST(ShippedConfig, GivenOdometryYamlWhenLoadedThenEveryFieldEqualsTheInClassDef
   c.expect("points.max_range", s.lio.max_range, d.lio.max_range);
   c.expect("points.downsample_voxel", s.lio.downsample_voxel, d.lio.downsample_voxel);
   c.expect("points.min_points", s.lio.min_points, d.lio.min_points);
+  c.expect("points.max_points", s.lio.max_points, d.lio.max_points);
   c.expect("update.max_iterations", s.lio.max_iterations, d.lio.max_iterations);
   c.expect("update.knn", s.lio.knn, d.lio.knn);
   c.expect("update.max_correspondence", s.lio.max_correspondence, d.lio.max_correspondence);
