@@ -13,7 +13,7 @@ UCON="$ROOT/deploy/ucon"
 BUILD=${UCON_BUILD_DIR:-$ROOT/build}
 
 workers=$(nproc) runs=3 scenario=pedestrians out="" url=${LCM_DEFAULT_URL:-"udpm://239.255.76.67:7667?ttl=0"}
-max_drop=3 pose=ground_truth duration=60
+max_drop=3 pose=odometry duration=60
 usage() {
   cat <<'EOT'
 Usage: tests/load/load.sh [options]
@@ -21,7 +21,7 @@ Usage: tests/load/load.sh [options]
                   load (the replay must then agree with the live run)
   --runs K        runs of the scenario (default 3)
   --scenario S    scenario (default pedestrians)
-  --pose P        ground_truth (default) | odometry, as deploy/ucon sim --pose
+  --pose P        odometry (default) | ground_truth, as deploy/ucon sim --pose
   --duration S    simulated seconds of each run, the scenario's goals driven in a loop
                   (deploy/ucon sim --loop; default 60)
   --max-drop P    largest allowed loss of MOTA or planner success against the replay [points]

@@ -10,13 +10,13 @@ UCON="$ROOT/deploy/ucon"
 BUILD=${UCON_BUILD_DIR:-$ROOT/build}
 
 minutes=30 scenario=pedestrians out="" url=${LCM_DEFAULT_URL:-"udpm://239.255.76.67:7667?ttl=0"}
-sample_s=10 warmup_s=60 max_growth_pct=5 pose=ground_truth
+sample_s=10 warmup_s=60 max_growth_pct=5 pose=odometry
 usage() {
   cat <<'EOT'
 Usage: tests/soak/soak.sh [options]
   --minutes N          how long the simulation runs, in simulated minutes (default 30)
   --scenario S         scenario whose goals are looped (default pedestrians)
-  --pose P             ground_truth (default) | odometry, as deploy/ucon sim --pose
+  --pose P             odometry (default) | ground_truth, as deploy/ucon sim --pose
   --out DIR            where the CSV, the JSON and the run's logs go (default logs/soak_<date>)
   --lcm-url U          LCM URL (default $LCM_DEFAULT_URL or the launcher's)
   --sample-s S         seconds between memory samples (default 10)
