@@ -170,7 +170,7 @@ TEST(PerceptionNode, GivenAPersonThatVanishesInPlainViewThenItsTrackIsDeletedQui
   ASSERT_TRUE(before);
   bool alive_at_end = false;
   for (const auto& t : r.objects.back().objects) alive_at_end = alive_at_end || t.id == before->id;
-  EXPECT_FALSE(alive_at_end) << "deleted long before max_coast (3 s)";
+  EXPECT_FALSE(alive_at_end) << "deleted long before max_coast (1.5 s)";
 }
 
 // Person A walks up beside person B and stays 0.55 m from B's centre (one cluster at the

@@ -242,7 +242,7 @@ TEST(TrackManager, GivenATrackMeasuredOnOldStructureForStructureFramesInARowThen
 }
 
 TEST(TrackManager, GivenAnUnseenTrackTheSensorSeesThroughThenItIsDeletedAfterFreeFramesOtherwiseItCoasts) {
-  const PerceptionParams p;  // free_frames 3, free_margin 0.5 m, max_coast 3 s
+  const PerceptionParams p;  // free_frames 3, free_margin 0.5 m, max_coast 1.5 s
   const AngularGrid coarse(p.tracks.free_bin_deg);
   for (const double seen : {10.0, 3.2}) {  // a wall 10 m away behind it / returns in front of it
     TrackManager tm(p, coarse);
