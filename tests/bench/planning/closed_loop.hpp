@@ -49,7 +49,7 @@ struct RunConfig {
   double tracker_initial_velocity_std = 1.0; ///< velocity uncertainty of a new track [m/s]
   ObserveMode observe = ObserveMode::kAll;   ///< all movers, or those in line of sight (observation.hpp)
   double sensing_range = 12.0;     ///< los: sensing range [m]
-  double max_coast = 3.0;          ///< los: a hidden track is dropped after this (the protocol's own value: 3 s, perception ships 1.5 s) [s]
+  double max_coast = 3.0;          ///< los: a hidden track is dropped after this (the Table II protocol's own value) [s]
   double coast_velocity_decay = 1.0;  ///< los: hidden tracks' velocity decay (perception.yaml tracks.coast_velocity_decay) [s]
   double warmup_s = 1.0;           ///< obstacles are tracked this long before the goal is sent [s]
   /// > 0: the robot shuttles (at the goal it is sent back to the start, and so on) and the run

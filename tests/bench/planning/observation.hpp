@@ -39,7 +39,7 @@ struct ObserveConfig {
   double sensor_height = 0.5;   ///< los: sensor above the robot's centre (perception sensor_origin z) [m]
   double noise_std = 0.05;      ///< centre noise (1 sigma, per axis) [m]
   kalman::KalmanParams kalman;  ///< the tracks' filter (position_std should be noise_std)
-  /// los: a track unseen this long is dropped (the protocol's own value: 3 s, perception ships 1.5 s) [s]
+  /// los: a track unseen this long is dropped (the Table II protocol's own value) [s]
   double max_coast = 3.0;
   /// los: the velocity of an unseen track decays with this time constant (perception.yaml
   /// tracks.coast_velocity_decay) [s]; 0 = off

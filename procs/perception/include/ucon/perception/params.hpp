@@ -113,7 +113,7 @@ struct TrackParams {
   double merge_margin = 0.3;        ///< a matched cluster larger than the track's box by this is a merge [m]
   double tentative_max_age = 1.0;   ///< a tentative track older than this is deleted [s]
   int tentative_max_misses = 2;     ///< consecutive misses that delete a tentative track, >= 1
-  double max_coast = 1.5;           ///< a track unseen for this long is deleted [s], > 0 (its prediction has left the object by then)
+  double max_coast = 1.5;           ///< a track unseen for this long is deleted [s], > 0
   double coast_velocity_decay = 1.0;  ///< while unseen, the velocity decays with this time constant [s] (people stop and turn); 0 = off
   double free_bin_deg = 3.0;        ///< angular bins of the "seen through" check of unseen tracks [deg], [0.5, 20]
   double free_margin = 0.5;         ///< a track is seen through when the nearest return in its bin is this far behind it [m]
