@@ -79,6 +79,52 @@ TEST(VoxelMap, GivenPointsWhenQueriedThenTheNearestEqualBruteForceWithinTheSearc
   }
 }
 
+// The store grows by chunks of slots: thousands of voxels, half of them dropped and their
+// slots reused by new ones, and every stored point must still be found where it was put.
+TEST(VoxelMap, GivenThousandsOfVoxelsDroppedAndReusedThenEveryPointIsFoundWhereItWasPut) {
+  VoxelMapParams p;
+  p.voxel_size = 1.0;
+  p.max_points_per_voxel = 4;
+  p.min_point_spacing = 0.0;
+  p.radius = 30.0;
+  VoxelMap map(p);
+  // A 60 x 50 grid of voxels (3 000, more than ten chunks), two points in each.
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 60; ++i)
+    for (int j = 0; j < 50; ++j) {
+      pts.emplace_back(static_cast<float>(i) + 0.25f, static_cast<float>(j) + 0.25f, 0.5f);
+      pts.emplace_back(static_cast<float>(i) + 0.75f, static_cast<float>(j) + 0.5f, 0.25f);
+    }
+  ASSERT_EQ(map.insert(pts), pts.size());
+  ASSERT_EQ(map.numVoxels(), 3000u);
+  // Keep what lies within 30 m of (0, 0): about a quarter circle; the rest frees its slots.
+  const std::size_t dropped = map.removeFar(Eigen::Vector3d(0.0, 0.0, 0.0));
+  ASSERT_GT(dropped, 1000u);
+  std::vector<Eigen::Vector3f> kept;
+  for (const auto& q : pts)
+    if (Eigen::Vector2f(std::floor(q.x()) + 0.5f, std::floor(q.y()) + 0.5f).norm() <= 30.0f) kept.push_back(q);
+  // New voxels elsewhere take the freed slots (and new chunks once those run out).
+  std::vector<Eigen::Vector3f> fresh;
+  for (int i = 0; i < 60; ++i)
+    for (int j = 0; j < 40; ++j) fresh.emplace_back(-static_cast<float>(i) - 0.5f, static_cast<float>(j) + 0.5f, 3.5f);
+  ASSERT_EQ(map.insert(fresh), fresh.size());
+  kept.insert(kept.end(), fresh.begin(), fresh.end());
+  EXPECT_EQ(map.numPoints(), kept.size());
+  EXPECT_EQ(map.numVoxels(), 3000u - dropped + fresh.size());
+  Neighbours nb;
+  for (const auto& q : kept) {
+    ASSERT_EQ(map.nearest(q, 1, 0.01f, &nb), 1) << q.transpose();
+    EXPECT_EQ(nb.points[0], q);
+  }
+  auto sorted = [](std::vector<Eigen::Vector3f> v) {
+    std::sort(v.begin(), v.end(), [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+      return std::tie(a.x(), a.y(), a.z()) < std::tie(b.x(), b.y(), b.z());
+    });
+    return v;
+  };
+  EXPECT_EQ(sorted(map.points()), sorted(kept));
+}
+
 TEST(VoxelMap, GivenSpacingAndCapacityThenCloseAndSurplusPointsAreDropped) {
   VoxelMapParams p;
   p.voxel_size = 1.0;

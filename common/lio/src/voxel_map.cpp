@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <type_traits>
 
 namespace ucon {
 namespace lio {
@@ -45,6 +47,42 @@ int32_t floorToInt(float x) {
   return static_cast<float>(i) > x ? i - 1 : i;
 }
 
+// An array that grows by fixed chunks of kChunk items and never moves what it holds. A
+// std::vector doubles: it copies itself into a block twice its size, so the process's resident
+// memory jumps by the whole store each time the map crosses a power of two (and the pages of
+// the old block may stay resident). Here the map grows by one chunk at a time. An item is
+// `width` consecutive values of T; new float chunks are left uninitialised (their pages are not
+// touched until points are written), other types are value-initialised.
+template <typename T>
+class ChunkedArray {
+ public:
+  static constexpr int kShift = 8;
+  static constexpr std::size_t kChunk = std::size_t{1} << kShift;
+
+  explicit ChunkedArray(std::size_t width = 1) : width_(width) {}
+  T* item(std::size_t i) { return chunks_[i >> kShift].get() + (i & (kChunk - 1)) * width_; }
+  const T* item(std::size_t i) const { return chunks_[i >> kShift].get() + (i & (kChunk - 1)) * width_; }
+  T& operator[](std::size_t i) { return *item(i); }
+  const T& operator[](std::size_t i) const { return *item(i); }
+  std::size_t size() const { return size_; }
+  void setWidth(std::size_t width) { width_ = width; }
+  /// Appends one item (its values default-constructed for class types).
+  void grow() {
+    if (size_ == chunks_.size() * kChunk) {
+      if constexpr (std::is_arithmetic_v<T>)
+        chunks_.emplace_back(new T[kChunk * width_]);
+      else
+        chunks_.emplace_back(new T[kChunk * width_]());
+    }
+    ++size_;
+  }
+
+ private:
+  std::size_t width_;
+  std::size_t size_ = 0;
+  std::vector<std::unique_ptr<T[]>> chunks_;
+};
+
 }  // namespace
 
 struct VoxelMap::Impl {
@@ -63,11 +101,11 @@ struct VoxelMap::Impl {
   };
 
   tsl::robin_map<uint64_t, Entry, KeyHash> index;
-  std::vector<Slot> slots;
+  ChunkedArray<Slot> slots;
   // A slot's points in one block of 3 * cap floats, x then y then z (structure of arrays inside
   // the block), so that the distances to a voxel's points are computed several at a time and a
   // query touches one contiguous run of memory per voxel.
-  std::vector<float> pts;
+  ChunkedArray<float> pts;
   std::vector<int32_t> free_slots;
   int32_t head = -1, tail = -1;
   std::size_t num_points = 0;
@@ -79,7 +117,8 @@ struct VoxelMap::Impl {
   std::vector<float> range_image;
   std::vector<int32_t> doomed;
 
-  std::size_t block(int32_t s) const { return static_cast<std::size_t>(s) * static_cast<std::size_t>(3 * cap); }
+  float* block(int32_t s) { return pts.item(static_cast<std::size_t>(s)); }
+  const float* block(int32_t s) const { return pts.item(static_cast<std::size_t>(s)); }
   void unlink(int32_t s) {
     Slot& sl = slots[static_cast<std::size_t>(s)];
     if (sl.prev >= 0) slots[static_cast<std::size_t>(sl.prev)].next = sl.next; else head = sl.next;
@@ -112,8 +151,8 @@ struct VoxelMap::Impl {
       free_slots.pop_back();
     } else {
       s = static_cast<int32_t>(slots.size());
-      slots.emplace_back();
-      pts.resize(pts.size() + static_cast<std::size_t>(3 * cap));
+      slots.grow();
+      pts.grow();
     }
     Slot& sl = slots[static_cast<std::size_t>(s)];
     sl.key = key;
@@ -134,6 +173,7 @@ struct VoxelMap::Impl {
 VoxelMap::VoxelMap(const VoxelMapParams& params) : params_(params), impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.cap = std::max(1, std::min(64, params.max_points_per_voxel));
+  m.pts.setWidth(static_cast<std::size_t>(3 * m.cap));
   m.voxel = static_cast<float>(params.voxel_size > 0.0 ? params.voxel_size : 0.5);
   m.inv_voxel = 1.0f / m.voxel;
   m.spacing2 = static_cast<float>(params.min_point_spacing * params.min_point_spacing);
@@ -174,7 +214,7 @@ bool VoxelMap::insert(const Eigen::Vector3f& p) {
   slot.misses = 0;
   const int count = it->second.count;
   if (count >= m.cap) return false;
-  float* xs = &m.pts[m.block(it->second.slot)];
+  float* xs = m.block(it->second.slot);
   float* ys = xs + m.cap;
   float* zs = ys + m.cap;
   for (int i = 0; i < count; ++i) {
@@ -228,7 +268,7 @@ int VoxelMap::nearest(const Eigen::Vector3f& q, int k, float max_distance, Neigh
     const auto it = m.index.find(packKey(cc.x(), cc.y(), cc.z()));
     if (it == m.index.end()) continue;
     const int count = it->second.count;
-    const float* xs = &m.pts[m.block(it->second.slot)];
+    const float* xs = m.block(it->second.slot);
     const float* ys = xs + m.cap;
     const float* zs = ys + m.cap;
     // All distances first, counting those that could enter (below max_distance and, once k
@@ -356,7 +396,7 @@ std::vector<Eigen::Vector3f> VoxelMap::points() const {
   out.reserve(m.num_points);
   for (int32_t s = m.head; s >= 0; s = m.slots[static_cast<std::size_t>(s)].next) {
     const auto& sl = m.slots[static_cast<std::size_t>(s)];
-    const float* xs = &m.pts[m.block(s)];
+    const float* xs = m.block(s);
     const int count = m.index.find(sl.key)->second.count;
     for (int i = 0; i < count; ++i) out.emplace_back(xs[i], xs[m.cap + i], xs[2 * m.cap + i]);
   }
