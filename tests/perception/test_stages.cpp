@@ -217,6 +217,49 @@ TEST(TrackManager, GivenAWalkerMeasuredEachFrameThenItsTrackIsConfirmedAfterConf
   EXPECT_FALSE(tm.nearTrack(tm.tracks()[0].kf.state().head<2>() + Eigen::Vector2d(0.8, 0.0)));
 }
 
+// A person whose track was lost (seen through: deleted) comes back standing: a new track
+// there never moves the 0.3 m that confirms one. Within the re-identification gate of the lost
+// track it is confirmed on its hits alone and takes over the identity; farther away, or with
+// reid_confirm off, it stays tentative (static clutter is not confirmed for standing still).
+TEST(TrackManager, GivenALostWalkerBackStandingThenItsNewTrackIsConfirmedOnlyWithinTheGate) {
+  for (const bool reid_confirm : {true, false})
+    for (const double back_at : {4.0, 7.0}) {
+      PerceptionParams p;  // reid_speed 1.8 m/s, reid_margin 0.5 m, confirm_hits 4
+      p.tracks.reid_confirm = reid_confirm;
+      const AngularGrid coarse(p.tracks.free_bin_deg);
+      TrackManager tm(p, coarse);
+      ucon::StatusReport status("test");
+      int64_t t = confirmWalker(&tm, &status, coarse);
+      ASSERT_GT(t, 0);
+      const int64_t id = tm.tracks()[0].id;
+      // Seen through (a wall 10 m behind it): deleted after free_frames, remembered as lost.
+      const Frame far = frameSeeing(10.0, coarse);
+      for (int k = 0; k < 5 && !tm.tracks().empty(); ++k) {
+        t += 20'000;
+        tm.predict(t, status);
+        tm.manage(t, {0}, far, status);
+      }
+      ASSERT_TRUE(tm.tracks().empty());
+      // 0.2 s later a standing object at `back_at` (the walker was last at 3.36 m): 0.86 m
+      // from it lies within 1.8 * 0.2 + 0.5 m, 3.6 m does not.
+      t += 200'000;
+      ASSERT_TRUE(tm.start(measurementAt(back_at, 0.0), t, status));
+      const Frame f = frameSeeing(back_at, coarse);
+      for (int k = 1; k <= 5; ++k) {
+        t += 20'000;
+        tm.predict(t, status);
+        tm.update(0, measurementAt(back_at, 0.0), t, TO::ASSOC_OBJECT, true, false, status);
+        tm.manage(t, {1}, f, status);
+      }
+      ASSERT_EQ(tm.tracks().size(), 1u);
+      const bool expect = reid_confirm && back_at < 5.0;
+      EXPECT_EQ(tm.tracks()[0].state, expect ? TO::STATE_CONFIRMED : TO::STATE_TENTATIVE)
+          << "reid_confirm " << reid_confirm << ", back at " << back_at << " m";
+      EXPECT_EQ(tm.tracks()[0].id == id, expect);
+      EXPECT_EQ(status.counter("tracks_confirmed_returning"), expect ? 1 : 0);
+    }
+}
+
 TEST(TrackManager, GivenATrackMeasuredOnOldStructureForStructureFramesInARowThenItIsDeleted) {
   const PerceptionParams p;  // structure_frames 5
   const AngularGrid coarse(p.tracks.free_bin_deg);

@@ -137,18 +137,18 @@ void TrackManager::update(std::size_t j, const Measurement& m, int64_t utime, in
   }
 }
 
-void TrackManager::reidentify(Track& fresh, StatusReport& status) {
+void TrackManager::reidCandidate(const Track& fresh, Track** coasting, const Lost** lost) {
   // The object a coasting track lost may come back as a new track (it turned while hidden,
-  // or reappeared farther than the association gates): if the newly confirmed track is
-  // where that object could have walked to since it was last seen, it takes over the
-  // coasting track's identity, and the coasting track ends.
+  // or reappeared farther than the association gates): a new track that is where that object
+  // could have walked to since it was last seen is that object.
+  *coasting = nullptr;
+  *lost = nullptr;
   const TrackParams& p = params_;
   if (p.reid_speed <= 0.0 || fresh.measured.empty()) return;
   const Eigen::Vector2d first = fresh.first_center;
   const auto score = [&](const Eigen::Vector2d& last, const Eigen::Vector2d& v, double dt) {
     return reidentificationScore(first, last, v, dt, p);
   };
-  Track* best = nullptr;
   double best_d = 0.0;
   for (auto& tr : tracks_) {
     if (&tr == &fresh || tr.state != TO::STATE_COASTING || tr.measured.empty()) continue;
@@ -157,18 +157,25 @@ void TrackManager::reidentify(Track& fresh, StatusReport& status) {
     const Eigen::Vector2d last = tr.measured.back().center.head<2>();
     if ((first - last).norm() > p.reid_speed * dt + p.reid_margin) continue;
     const double d = score(last, tr.seen_velocity, dt);
-    if (!best || d < best_d) best = &tr, best_d = d;
+    if (!*coasting || d < best_d) *coasting = &tr, best_d = d;
   }
   // Recently deleted confirmed tracks are candidates too (a coasting track may have been
   // seen through or timed out before its object came back).
-  const Lost* best_lost = nullptr;
   for (const auto& l : lost_) {
     if (l.last_seen_utime > fresh.created_utime) continue;
     const double dt = seconds(fresh.created_utime - l.last_seen_utime);
     if ((first - l.last_center).norm() > p.reid_speed * dt + p.reid_margin) continue;
     const double d = score(l.last_center, l.seen_velocity, dt);
-    if ((!best && !best_lost) || d < best_d) best_lost = &l, best = nullptr, best_d = d;
+    if ((!*coasting && !*lost) || d < best_d) *lost = &l, *coasting = nullptr, best_d = d;
   }
+}
+
+void TrackManager::reidentify(Track& fresh, StatusReport& status) {
+  // The newly confirmed track takes over the identity of the object it is, and a coasting
+  // track of that object ends.
+  Track* best = nullptr;
+  const Lost* best_lost = nullptr;
+  reidCandidate(fresh, &best, &best_lost);
   if (best) {
     fresh.id = best->id;
     fresh.age_frames = best->age_frames;
@@ -211,9 +218,22 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
     if (updated[j]) {
       const double speed = tr.kf.state().segment<2>(3).norm();
       const double moved = tr.measured.empty() ? 0.0 : (tr.measured.back().center.head<2>() - tr.first_center).norm();
-      if (tr.state == TO::STATE_TENTATIVE && tr.hits >= p.confirm_hits && speed >= p.confirm_min_speed &&
-          speed <= p.confirm_max_speed && moved >= p.confirm_min_distance &&
+      bool confirm = false;
+      if (tr.state == TO::STATE_TENTATIVE && tr.hits >= p.confirm_hits && speed <= p.confirm_max_speed &&
           tr.moving_hits >= p.confirm_moving_hits) {
+        confirm = speed >= p.confirm_min_speed && moved >= p.confirm_min_distance;
+        // An object already known to move, back where it could be (from hiding, or standing
+        // since it was lost): the speed and distance tests would keep a person who stands
+        // or walks slowly tentative until the track expires, again and again.
+        if (!confirm && p.reid_confirm) {
+          Track* coasting = nullptr;
+          const Lost* lost = nullptr;
+          reidCandidate(tr, &coasting, &lost);
+          confirm = coasting || lost;
+          if (confirm) status.count("tracks_confirmed_returning");
+        }
+      }
+      if (confirm) {
         tr.state = TO::STATE_CONFIRMED;
         tr.confirmed_once = true;
         status.count("tracks_confirmed");

@@ -105,6 +105,9 @@ class TrackManager {
     Eigen::Vector2d seen_velocity = Eigen::Vector2d::Zero();
     int64_t last_seen_utime = 0;
   };
+  /// The coasting track (`*coasting`) or recently deleted one (`*lost`) whose object `fresh`
+  /// is, by the re-identification gate and score; both null when none (or reid_speed is 0).
+  void reidCandidate(const Track& fresh, Track** coasting, const Lost** lost);
   void reidentify(Track& fresh, StatusReport& status);
   bool seenThrough(const Track& t, const Frame& frame) const;
 
