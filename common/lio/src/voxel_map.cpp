@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <type_traits>
 
 namespace ucon {
 namespace lio {
@@ -51,8 +50,8 @@ int32_t floorToInt(float x) {
 // std::vector doubles: it copies itself into a block twice its size, so the process's resident
 // memory jumps by the whole store each time the map crosses a power of two (and the pages of
 // the old block may stay resident). Here the map grows by one chunk at a time. An item is
-// `width` consecutive values of T; new float chunks are left uninitialised (their pages are not
-// touched until points are written), other types are value-initialised.
+// `width` consecutive values of T, default-initialised: floats are left as they are (their pages
+// are not touched until points are written), a Slot takes its member initialisers.
 template <typename T>
 class ChunkedArray {
  public:
@@ -66,14 +65,9 @@ class ChunkedArray {
   const T& operator[](std::size_t i) const { return *item(i); }
   std::size_t size() const { return size_; }
   void setWidth(std::size_t width) { width_ = width; }
-  /// Appends one item (its values default-constructed for class types).
+  /// Appends one item.
   void grow() {
-    if (size_ == chunks_.size() * kChunk) {
-      if constexpr (std::is_arithmetic_v<T>)
-        chunks_.emplace_back(new T[kChunk * width_]);
-      else
-        chunks_.emplace_back(new T[kChunk * width_]());
-    }
+    if (size_ == chunks_.size() * kChunk) chunks_.emplace_back(new T[kChunk * width_]);
     ++size_;
   }
 

@@ -170,12 +170,9 @@ void TrackManager::reidCandidate(const Track& fresh, Track** coasting, const Los
   }
 }
 
-void TrackManager::reidentify(Track& fresh, StatusReport& status) {
-  // The newly confirmed track takes over the identity of the object it is, and a coasting
-  // track of that object ends.
-  Track* best = nullptr;
-  const Lost* best_lost = nullptr;
-  reidCandidate(fresh, &best, &best_lost);
+void TrackManager::reidentify(Track& fresh, Track* best, const Lost* best_lost, StatusReport& status) {
+  // The newly confirmed track takes over the identity of the object it is (reidCandidate()),
+  // and a coasting track of that object ends.
   if (best) {
     fresh.id = best->id;
     fresh.age_frames = best->age_frames;
@@ -219,25 +216,25 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
       const double speed = tr.kf.state().segment<2>(3).norm();
       const double moved = tr.measured.empty() ? 0.0 : (tr.measured.back().center.head<2>() - tr.first_center).norm();
       bool confirm = false;
+      Track* coasting = nullptr;  // the object this track is, if it was tracked before
+      const Lost* lost = nullptr;
       if (tr.state == TO::STATE_TENTATIVE && tr.hits >= p.confirm_hits && speed <= p.confirm_max_speed &&
           tr.moving_hits >= p.confirm_moving_hits) {
         confirm = speed >= p.confirm_min_speed && moved >= p.confirm_min_distance;
+        reidCandidate(tr, &coasting, &lost);
         // An object already known to move, back where it could be (from hiding, or standing
         // since it was lost): the speed and distance tests would keep a person who stands
         // or walks slowly tentative until the track expires, again and again.
-        if (!confirm && p.reid_confirm) {
-          Track* coasting = nullptr;
-          const Lost* lost = nullptr;
-          reidCandidate(tr, &coasting, &lost);
-          confirm = coasting || lost;
-          if (confirm) status.count("tracks_confirmed_returning");
+        if (!confirm && p.reid_confirm && (coasting || lost)) {
+          confirm = true;
+          status.count("tracks_confirmed_returning");
         }
       }
       if (confirm) {
         tr.state = TO::STATE_CONFIRMED;
         tr.confirmed_once = true;
         status.count("tracks_confirmed");
-        reidentify(tr, status);
+        reidentify(tr, coasting, lost, status);
       } else if (tr.state == TO::STATE_COASTING) {
         tr.state = TO::STATE_CONFIRMED;
       }

@@ -108,7 +108,8 @@ class TrackManager {
   /// The coasting track (`*coasting`) or recently deleted one (`*lost`) whose object `fresh`
   /// is, by the re-identification gate and score; both null when none (or reid_speed is 0).
   void reidCandidate(const Track& fresh, Track** coasting, const Lost** lost);
-  void reidentify(Track& fresh, StatusReport& status);
+  /// `fresh`, just confirmed, takes over the identity of reidCandidate()'s answer for it.
+  void reidentify(Track& fresh, Track* coasting, const Lost* lost, StatusReport& status);
   bool seenThrough(const Track& t, const Frame& frame) const;
 
   TrackParams params_;
