@@ -221,7 +221,7 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
       if (tr.state == TO::STATE_TENTATIVE && tr.hits >= p.confirm_hits && speed <= p.confirm_max_speed &&
           tr.moving_hits >= p.confirm_moving_hits) {
         confirm = speed >= p.confirm_min_speed && moved >= p.confirm_min_distance;
-        reidCandidate(tr, &coasting, &lost);
+        if (confirm || p.reid_confirm) reidCandidate(tr, &coasting, &lost);  // needed for either
         // An object already known to move, back where it could be (from hiding, or standing
         // since it was lost): the speed and distance tests would keep a person who stands
         // or walks slowly tentative until the track expires, again and again.
