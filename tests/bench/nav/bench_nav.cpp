@@ -507,6 +507,7 @@ int main(int argc, char** argv) {
     }
     js << "\n]";
     js << ",\n \"check_growth\": " << (check_growth >= 0.0 ? num(check_growth) : "null");
+    js << ",\n \"seed_base\": " << seed_base << ", \"seeds\": " << seeds;
     if (several) {
       js << ",\n \"paired\": {\"reference\": \"" << model_names[0] << "\", \"results\": [";
       for (std::size_t i = 0; i < pair_rows.size(); ++i) {
