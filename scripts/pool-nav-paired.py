@@ -23,6 +23,9 @@ import re
 import sys
 
 
+Z = 1.96  # the 95 % normal quantile, as paired_stats.cpp uses it
+
+
 class BadInput(Exception):
     pass
 
@@ -30,11 +33,10 @@ class BadInput(Exception):
 def wilson(k, n):
     if n <= 0:
         return (math.nan, math.nan)
-    z = 1.96
     p = k / n
-    den = 1 + z * z / n
-    centre = (p + z * z / (2 * n)) / den
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    den = 1 + Z * Z / n
+    centre = (p + Z * Z / (2 * n)) / den
+    half = Z * math.sqrt(p * (1 - p) / n + Z * Z / (4 * n * n)) / den
     return (centre - half, centre + half)
 
 
@@ -43,7 +45,7 @@ def paired_difference(b, c, n):
     if n <= 0:
         return (math.nan, math.nan, math.nan)
     diff = (b - c) / n
-    half = 1.96 * math.sqrt(max(0.0, b + c - (b - c) ** 2 / n)) / n
+    half = Z * math.sqrt(max(0.0, b + c - (b - c) ** 2 / n)) / n
     return (diff, diff - half, diff + half)
 
 
@@ -131,13 +133,15 @@ def main():
     except BadInput as e:
         print(f"pool-nav-paired: {e}", file=sys.stderr)
         return 2
-    z2 = 1.96 ** 2
+    except (KeyError, TypeError, ValueError, AttributeError) as e:
+        print(f"pool-nav-paired: an input is not a ucon-bench-nav JSON ({type(e).__name__}: {e})", file=sys.stderr)
+        return 2
     rows = []
     for (nd, model), c in sorted(cells.items()):
         n = c["runs"]
         diff, lo, hi = paired_difference(c["only_model"], c["only_ref"], n)
         disc = (c["only_model"] + c["only_ref"]) / n if n else math.nan
-        need = math.ceil(z2 * max(0.0, disc - diff * diff) / a.resolve ** 2) if n else None
+        need = math.ceil(Z * Z * max(0.0, disc - diff * diff) / a.resolve ** 2) if n else None
         rows.append({
             "n_dynamic": nd, "planner_model": model, "runs": n,
             "reference_success_rate": c["ref_ok"] / n, "reference_ci95": list(wilson(c["ref_ok"], n)),
