@@ -23,7 +23,12 @@ Eigen::Vector3f along(float r, float deg = 0.5f) {
 
 // One second of parked frames (50 Hz) whose returns are `returns`, then a frame 1.2 s in with
 // the single point `p`: whether the test marks it moved.
-bool movedAgainst(const Points& returns, const Eigen::Vector3f& p) {
+// The same, returning what the test found for the point.
+MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p);
+
+bool movedAgainst(const Points& returns, const Eigen::Vector3f& p) { return evidenceAgainst(returns, p).moved == 1; }
+
+MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p) {
   const SegmentationParams params;
   const AngularGrid grid(params.free_space_bin_deg);
   MotionTest test(params, grid);
@@ -44,7 +49,11 @@ bool movedAgainst(const Points& returns, const Eigen::Vector3f& p) {
   now.moved.assign(1, 0);
   test.selectReference(now.utime);
   EXPECT_TRUE(test.hasReference());
-  return test.markMoved(now, {0}, p.head<2>().cast<double>(), &now.moved) == 1;
+  MotionEvidence e;
+  const int n = test.markMoved(now, {0}, p.head<2>().cast<double>(), &now.moved, &e);
+  EXPECT_EQ(n, e.moved);
+  EXPECT_EQ(e.near_reference + e.moved + e.surface + e.undecided, 1);
+  return e;
 }
 
 }  // namespace
@@ -82,3 +91,17 @@ TEST(MotionTest, GivenNewSurfaceWhereNoReferenceBinAroundItSawAnythingThenItMove
   EXPECT_TRUE(movedAgainst({along(8.0f, 10.5f)}, along(5.0f)));
 }
 
+
+TEST(MotionTest, GivenEachKindOfEvidenceThenThePointIsCountedUnderIt) {
+  // A reference point where the point is: not new surface.
+  EXPECT_EQ(evidenceAgainst({along(5.0f)}, along(5.0f)).near_reference, 1);
+  // The reference saw past it: motion.
+  EXPECT_EQ(evidenceAgainst({along(8.0f)}, along(5.0f)).moved, 1);
+  // The bins around it saw a wall at its range: that wall, sampled now.
+  EXPECT_EQ(evidenceAgainst({along(8.0f, 1.5f), along(8.1f, -0.5f)}, along(8.0f)).surface, 1);
+  // Every reference return in its direction lay 2 m in front of it (something stood there and
+  // hid it for the whole window): the test cannot tell whether it moved.
+  EXPECT_EQ(evidenceAgainst({along(3.0f)}, along(5.0f)).undecided, 1);
+  // A bin holding rays past it and an edge well in front: no evidence either way.
+  EXPECT_EQ(evidenceAgainst({along(8.0f), along(3.0f, 0.8f)}, along(5.0f)).undecided, 1);
+}

@@ -54,7 +54,7 @@ std::vector<Detection> Detector::classify(Frame* frame, const MotionTest& motion
   for (const auto& g : groups_) {
     Detection d = describe(f, g, predicted);
     if (d.size_ok && test) {
-      d.moving = static_cast<double>(motion.markMoved(f, g, d.box.center, &f.moved)) >=
+      d.moving = static_cast<double>(motion.markMoved(f, g, d.box.center, &f.moved, &d.evidence)) >=
                  s.motion_ratio * static_cast<double>(g.size());
     } else if (!d.size_ok && test && d.box.size.maxCoeff() <= s.split_max_size &&
                (d.max_z - d.min_z) >= s.min_object_height) {

@@ -27,7 +27,8 @@ void MotionTest::selectReference(int64_t utime) {
 }
 
 int MotionTest::markMoved(const Frame& frame, const std::vector<int>& indices, const Eigen::Vector2d& center,
-                          std::vector<char>* moved) const {
+                          std::vector<char>* moved, MotionEvidence* evidence) const {
+  MotionEvidence ev;
   const SegmentationParams& s = params_;
   const double range = (center - frame.robot_xy).norm();
   const double dist = s.motion_distance + s.motion_distance_per_m * range;
@@ -41,15 +42,21 @@ int MotionTest::markMoved(const Frame& frame, const std::vector<int>& indices, c
         break;
       }
     }
-    if (near) continue;
-    const bool m = pointMoved(frame, frame.points[i]);
+    if (near) {
+      ++ev.near_reference;
+      continue;
+    }
+    const Verdict v = pointMoved(frame, frame.points[i]);
+    const bool m = v == Verdict::kMoved;
+    ++(m ? ev.moved : v == Verdict::kSurface ? ev.surface : ev.undecided);
     n += m ? 1 : 0;
     (*moved)[i] = m ? 1 : 0;
   }
+  if (evidence) *evidence = ev;
   return n;
 }
 
-bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const {
+MotionTest::Verdict MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const {
   // A point with no reference point nearby is new surface. It is motion, not a disocclusion,
   // when some reference chunk (seen from its own sensor origin) either
   //  - saw past it along its ray: the space it occupies now was free (an object moving in), or
@@ -78,21 +85,21 @@ bool MotionTest::pointMoved(const Frame& frame, const Eigen::Vector3f& p) const 
     const float seen = c->max_range[bin];
     if (seen == 0.0f) continue;
     if (seen > range + margin) {
-      if (c->min_range[bin] >= range - margin) return true;
+      if (c->min_range[bin] >= range - margin) return Verdict::kMoved;
       mixed = true;
       continue;
     }
     if (best == nullptr || seen - range > best_seen - best_range) best = c, best_seen = seen, best_range = range;
   }
-  if (mixed) return false;
-  if (best == nullptr) return unseenMoved(p);
-  if (best_seen >= best_range - margin) return false;
+  if (mixed) return Verdict::kUndecided;
+  if (best == nullptr) return unseenMoved(p) ? Verdict::kMoved : Verdict::kSurface;
+  if (best_seen >= best_range - margin) return Verdict::kSurface;
   // The gap bounds how far the object moved; a larger one is more likely structure revealed
   // by a mover that passed in front of it.
-  if (best_seen < best_range - static_cast<float>(params_.vanish_max_gap)) return false;
+  if (best_seen < best_range - static_cast<float>(params_.vanish_max_gap)) return Verdict::kUndecided;
   const Eigen::Vector3f q = best->origin + (p - best->origin) * (best_seen / best_range) - frame.sensor_origin;
   const float now = frame.nearest_fine[static_cast<std::size_t>(grid_.bin(q))];
-  return std::isfinite(now) && now > q.norm() + margin;
+  return std::isfinite(now) && now > q.norm() + margin ? Verdict::kMoved : Verdict::kUndecided;
 }
 
 // No reference chunk had a return in the point's own bin. The scan is sparse (a Mid-360 puts

@@ -302,6 +302,28 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
     std::printf("\n");
   }
 
+  std::printf("\nvisibility-aware misses by cause, all seeds (object-frames of visible movers left unmatched; "
+              "first cause that applies, by the mover's range: < 6 / 6-9 / 9-12 / >= 12 m):\n");
+  std::map<std::pair<std::string, std::string>, std::array<std::array<int64_t, ucon::bench::kMissRangeBands>, ucon::bench::kMissCauses>> mc;
+  for (const auto& r : rows) {
+    auto& e = mc[{r.scene, r.score.method}];
+    for (int c = 0; c < ucon::bench::kMissCauses; ++c)
+      for (int b = 0; b < ucon::bench::kMissRangeBands; ++b) e[c][b] += r.score.miss_causes[c][b];
+  }
+  for (const auto& [key, e] : mc) {
+    int64_t total = 0;
+    for (const auto& c : e)
+      for (int64_t k : c) total += k;
+    std::printf("  %-12s %-14s %lld missed\n", key.first.c_str(), key.second.c_str(), static_cast<long long>(total));
+    for (int c = 0; c < ucon::bench::kMissCauses; ++c) {
+      const int64_t n = e[c][0] + e[c][1] + e[c][2] + e[c][3];
+      std::printf("      %-20s %5.1f %%  %6lld / %6lld / %6lld / %6lld\n", ucon::bench::missCauseName(static_cast<ucon::bench::MissCause>(c)),
+                  total > 0 ? 100.0 * static_cast<double>(n) / static_cast<double>(total) : 0.0,
+                  static_cast<long long>(e[c][0]), static_cast<long long>(e[c][1]), static_cast<long long>(e[c][2]),
+                  static_cast<long long>(e[c][3]));
+    }
+  }
+
   if (!o.json.empty()) {
     std::ofstream js(o.json);
     js << "{\"mode\": \"drive\", \"scenes\": [";
@@ -381,6 +403,13 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
       mot(js, a);
       js << ", \"visible\": ";
       mot(js, w);
+      js << ", \"miss_causes\": {";
+      for (int c = 0; c < ucon::bench::kMissCauses; ++c) {
+        js << (c ? ", " : "") << "\"" << ucon::bench::missCauseName(static_cast<ucon::bench::MissCause>(c)) << "\": [";
+        for (int b = 0; b < ucon::bench::kMissRangeBands; ++b) js << (b ? ", " : "") << r.score.miss_causes[c][b];
+        js << "]";
+      }
+      js << "}";
       js << ", \"fp_top_statics\": [";
       for (std::size_t j = 0; j < r.top_statics.size(); ++j) js << (j ? ", " : "") << "\"" << r.top_statics[j] << "\"";
       js << "], \"fp_by_motion\": {\"speed_bins\": [\"v<0.1\", \"v<0.75\", \"v>=0.75\"], \"yaw_rate_bins\": "

@@ -394,6 +394,50 @@ std::unique_ptr<replay::NodeAdapter> makePerceptionReplay(const perception::Perc
       });
 }
 
+const char* missCauseName(MissCause cause) {
+  switch (cause) {
+    case kMissTrackTaken: return "track_taken";
+    case kMissNoCluster: return "no_cluster";
+    case kMissNotObject: return "not_object";
+    case kMissHidden: return "motion_hidden";
+    case kMissOnReference: return "motion_on_reference";
+    case kMissMotionOther: return "motion_other";
+    case kMissTentative: return "tentative";
+    case kMissNoTrack: return "no_track";
+    case kMissCauses: break;
+  }
+  return "?";
+}
+
+int missRangeBand(double range_m) { return range_m < 6.0 ? 0 : range_m < 9.0 ? 1 : range_m < 12.0 ? 2 : 3; }
+
+MissCause classifyMiss(const Eigen::Vector2d& xy, const std::vector<perception::Detection>& detections,
+                       const tracked_objects_t& objects, double threshold_m) {
+  bool tentative = false;
+  for (const auto& o : objects.objects) {
+    if (!std::isfinite(o.x) || !std::isfinite(o.y) || std::hypot(o.x - xy.x(), o.y - xy.y()) >= threshold_m) continue;
+    if (o.state == tracked_object_t::STATE_CONFIRMED || o.state == tracked_object_t::STATE_COASTING)
+      return kMissTrackTaken;
+    tentative = tentative || o.state == tracked_object_t::STATE_TENTATIVE;
+  }
+  const perception::Detection* best = nullptr;
+  double best_d = kMissClusterDistance;
+  for (const auto& d : detections) {
+    const Eigen::Vector2d off = ((xy - d.box.center).cwiseAbs() - 0.5 * d.box.size).cwiseMax(0.0);
+    if (off.norm() <= best_d) best_d = off.norm(), best = &d;
+  }
+  if (best == nullptr) return kMissNoCluster;
+  if (!best->size_ok) return kMissNotObject;
+  if (!best->dynamic()) {
+    const perception::MotionEvidence& e = best->evidence;
+    const int tested = e.near_reference + e.moved + e.surface + e.undecided;
+    if (tested > 0 && 2 * e.undecided >= tested) return kMissHidden;
+    if (tested > 0 && 2 * e.near_reference >= tested) return kMissOnReference;
+    return kMissMotionOther;
+  }
+  return tentative ? kMissTentative : kMissNoTrack;
+}
+
 std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<std::string>& methods,
                                         const std::vector<perception::PerceptionParams>& params,
                                         const ScoreOptions& options) {
@@ -405,6 +449,7 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
     std::vector<double> latency, verr;
     std::set<int64_t> ids;
     int accumulate = 1;
+    const perception::PerceptionNode* node_view = nullptr;  ///< the replayed node (its last frame's clusters)
     std::set<int64_t> static_fp_ids;
     std::vector<double> static_fp_age, static_fp_speed;
     int64_t static_fp_coasting = 0;
@@ -413,6 +458,8 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
   for (std::size_t k = 0; k < methods.size(); ++k) {
     runs[k].score.method = methods[k];
     runs[k].node = makePerceptionReplay(params[k]);
+    if (const auto* b = dynamic_cast<const replay::BoundAdapter<perception::PerceptionNode>*>(runs[k].node.get()))
+      runs[k].node_view = &b->node();
     runs[k].accumulate = params[k].preprocess.accumulate_frames;
   }
   std::optional<world::World> world;
@@ -426,7 +473,8 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
   std::map<int64_t, std::map<int64_t, int>> frame_returns;        // cloud seq -> mover id -> returns
   // Scores what a node published: every PERCEPTION_OBJECTS, whichever input caused it (a
   // tick after a pose can publish an invalid message), as ucon-mot --log scores a replay.
-  const auto score = [&](Run& r, const std::vector<replay::OutputMessage>& produced) {
+  // `frame`: the outputs of a LIDAR_POINTS feed (the node's last detections are that frame's).
+  const auto score = [&](Run& r, const std::vector<replay::OutputMessage>& produced, bool frame) {
     for (const auto& o : produced) {
       if (o.channel != channels::kPerceptionObjects) continue;
       r.score.output_digest = fnv(r.score.output_digest, o.data.data(), o.data.size());
@@ -453,6 +501,15 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
         const int sb = speedBin(std::hypot(rp->vx, rp->vy)), yb = yawBin(std::abs(rp->wz));
         ++r.score.fp_frames[sb][yb];
         r.score.fp_count[sb][yb] += static_cast<int64_t>(fe.false_positives.size());
+      }
+      if (frame && objs.valid && r.node_view != nullptr) {
+        for (int64_t gid : fe.misses)
+          for (const auto& q : gt_now)
+            if (q.id == gid) {
+              const MissCause c = classifyMiss(Eigen::Vector2d(q.x, q.y), r.node_view->lastDetections(), objs,
+                                               eval.threshold_m);
+              ++r.score.miss_causes[c][missRangeBand(std::hypot(q.x - g->robot_x, q.y - g->robot_y))];
+            }
       }
       for (int64_t fid : fe.false_positives) {
         const tracked_object_t* t = nullptr;
@@ -508,7 +565,7 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
       for (auto& r : runs) {
         outs.clear();
         r.node->feed(ev.channel, d, n, &outs);
-        score(r, outs);
+        score(r, outs, false);
       }
       continue;
     }
@@ -525,7 +582,7 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
       const auto t0 = std::chrono::steady_clock::now();
       r.node->feed(ev.channel, d, n, &outs);
       r.latency.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-      score(r, outs);
+      score(r, outs, true);
     }
   }
   std::vector<MethodScore> out;

@@ -31,11 +31,13 @@
 
 #include "ucon/lidar_driver/driver_params.hpp"
 #include "ucon/mot/clear_mot.hpp"
+#include "ucon/perception/detection.hpp"
 #include "ucon/perception/params.hpp"
 #include "ucon/point_cloud_t.hpp"
 #include "ucon/replay/node_adapter.hpp"
 #include "ucon/robot_pose_t.hpp"
 #include "ucon/sim_ground_truth_t.hpp"
+#include "ucon/tracked_objects_t.hpp"
 #include "ucon/simulator/params.hpp"
 #include "ucon/world/scenario.hpp"
 
@@ -148,6 +150,34 @@ struct ScoreOptions {
   double static_fp_distance = 0.5; ///< a false positive this near a static footprint is on it [m]
 };
 
+/// Why a visible mover was missed in a scored frame, judged from the node's own clusters and
+/// published objects of that frame (first cause that applies, in this order).
+enum MissCause : int {
+  kMissTrackTaken = 0,    ///< a confirmed or coasting track lies within the threshold but was matched to another mover
+  kMissNoCluster,         ///< no cluster within kMissClusterDistance of its centre (too few returns, or cropped)
+  kMissNotObject,         ///< its cluster is too large or too flat for one object (merged into structure)
+  kMissHidden,            ///< object-sized but failed the motion test, most points undecided: the reference saw
+                          ///< only returns well in front of them (an occluder, often another mover)
+  kMissOnReference,       ///< failed the motion test, most points near reference points (slow, or on its own trail)
+  kMissMotionOther,       ///< failed the motion test otherwise (surface seen at its range, or no reference yet)
+  kMissTentative,         ///< dynamic, and a tentative track lies within the threshold
+  kMissNoTrack,           ///< dynamic, and no track lies within the threshold
+  kMissCauses
+};
+constexpr double kMissClusterDistance = 0.3;  ///< [m] a cluster's x-y box this close to a mover's centre is its cluster
+constexpr int kMissRangeBands = 4;            ///< range bands of the miss counts [m]: < 6, 6-9, 9-12, >= 12
+
+/// Short name of a cause (JSON keys, printed tables).
+const char* missCauseName(MissCause cause);
+
+/// Range band of a mover `range_m` from the robot.
+int missRangeBand(double range_m);
+
+/// The cause of a miss of the mover at `xy` [m], from the node's detections of the frame and
+/// the objects it published for it (threshold_m: the CLEAR-MOT match distance).
+MissCause classifyMiss(const Eigen::Vector2d& xy, const std::vector<perception::Detection>& detections,
+                       const tracked_objects_t& objects, double threshold_m);
+
 /// One method's figures on one recording.
 struct MethodScore {
   std::string method;
@@ -178,6 +208,8 @@ struct MethodScore {
   double fp_static_age_median = NAN;
   double fp_static_speed_median = NAN;
   double fp_static_coasting_share = NAN;
+  /// Visibility-aware misses by cause (MissCause) and range band of the mover (missRangeBand).
+  int64_t miss_causes[kMissCauses][kMissRangeBands] = {};
 };
 
 /// Replays `rec` through a perception node per method (`params` in the same order as

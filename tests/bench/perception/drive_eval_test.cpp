@@ -207,6 +207,73 @@ TEST(DriveScoring, GivenAMoverTheSensorNeverSeesWhenScoredThenItIsAMissOnlyWitho
   EXPECT_EQ(v[0].all.num_objects, 10);
   EXPECT_EQ(v[0].visible.num_objects, 10);
   EXPECT_EQ(v[0].visible.num_ignored, 0);
+  // Its cluster is object-sized but the node has no motion reference in its first 0.2 s: each
+  // miss is the motion test's, in the nearest range band.
+  EXPECT_EQ(v[0].visible.num_misses, 10);
+  EXPECT_EQ(v[0].miss_causes[ucon::bench::kMissMotionOther][0], 10);
+}
+
+TEST(DriveMissCauses, GivenEachSituationOfAMissedMoverThenItsCauseIsTheFirstThatApplies) {
+  using namespace ucon::bench;
+  using ucon::perception::Detection;
+  const Eigen::Vector2d at(5.0, 0.0);
+  auto det = [](double x, double y, double side, bool size_ok, bool moving) {
+    Detection d;
+    d.box.center = Eigen::Vector2d(x, y);
+    d.box.size = Eigen::Vector2d(side, side);
+    d.size_ok = size_ok;
+    d.moving = moving;
+    return d;
+  };
+  auto objects = [](std::vector<std::pair<double, int8_t>> xs) {
+    ucon::tracked_objects_t m;
+    for (const auto& [x, state] : xs) {
+      ucon::tracked_object_t o{};
+      o.x = x;
+      o.state = state;
+      m.objects.push_back(o);
+    }
+    m.num_objects = static_cast<int32_t>(m.objects.size());
+    return m;
+  };
+  const auto none = objects({});
+  using TO = ucon::tracked_object_t;
+  // A confirmed track 0.8 m off (within the 1 m threshold) that another mover's match took.
+  EXPECT_EQ(classifyMiss(at, {det(5.0, 0.0, 0.5, true, true)}, objects({{5.8, TO::STATE_CONFIRMED}}), 1.0),
+            kMissTrackTaken);
+  // The nearest cluster's box edge is 0.45 m away: no cluster of its own.
+  EXPECT_EQ(classifyMiss(at, {det(5.7, 0.0, 0.5, true, true)}, none, 1.0), kMissNoCluster);
+  // Its points are part of a wall-sized cluster.
+  EXPECT_EQ(classifyMiss(at, {det(5.5, 0.0, 3.0, false, false)}, none, 1.0), kMissNotObject);
+  // Object-sized, not moving: by what the motion test found for most of its points.
+  Detection hidden = det(5.0, 0.0, 0.5, true, false);
+  hidden.evidence.undecided = 6;
+  hidden.evidence.near_reference = 2;
+  hidden.evidence.surface = 2;
+  EXPECT_EQ(classifyMiss(at, {hidden}, none, 1.0), kMissHidden);
+  Detection trail = hidden;
+  trail.evidence.undecided = 1;
+  trail.evidence.near_reference = 7;
+  EXPECT_EQ(classifyMiss(at, {trail}, none, 1.0), kMissOnReference);
+  Detection seen = hidden;
+  seen.evidence.undecided = 2;
+  seen.evidence.surface = 6;
+  EXPECT_EQ(classifyMiss(at, {seen}, none, 1.0), kMissMotionOther);
+  // Supported by a live track's prediction counts as dynamic.
+  Detection supported = seen;
+  supported.supported = true;
+  EXPECT_EQ(classifyMiss(at, {supported}, none, 1.0), kMissNoTrack);
+  // Dynamic, with a tentative track beside it, or none.
+  EXPECT_EQ(classifyMiss(at, {det(5.0, 0.0, 0.5, true, true)}, objects({{5.3, TO::STATE_TENTATIVE}}), 1.0),
+            kMissTentative);
+  EXPECT_EQ(classifyMiss(at, {det(5.0, 0.0, 0.5, true, true)}, objects({{6.5, TO::STATE_CONFIRMED}}), 1.0),
+            kMissNoTrack);
+  // Range bands and names.
+  EXPECT_EQ(missRangeBand(5.9), 0);
+  EXPECT_EQ(missRangeBand(6.0), 1);
+  EXPECT_EQ(missRangeBand(11.9), 2);
+  EXPECT_EQ(missRangeBand(14.0), 3);
+  EXPECT_STREQ(missCauseName(kMissHidden), "motion_hidden");
 }
 
 TEST(DriveMethods, GivenAMethodNameWhenParamsAreMadeThenOnlyItsSwitchDiffers) {

@@ -25,6 +25,7 @@ struct Detection {
   bool size_ok = false;    ///< object-sized
   bool moving = false;     ///< passed the motion test
   bool supported = false;  ///< near a live track's prediction
+  MotionEvidence evidence;  ///< what the motion test found (object-sized clusters with a reference)
   bool dynamic() const { return size_ok && (moving || supported); }
 };
 

@@ -23,6 +23,16 @@
 namespace ucon {
 namespace perception {
 
+/// What the test found for the points of one cluster (for diagnostics: why a cluster is not
+/// moving). Each tested point counts once.
+struct MotionEvidence {
+  int near_reference = 0;  ///< a reference point lies near: not new surface
+  int moved = 0;           ///< new surface where the reference saw free space: motion
+  int surface = 0;         ///< new surface where the reference saw a surface at its range (or around it)
+  int undecided = 0;       ///< new surface the reference could not judge: every return in its
+                           ///< direction lay well in front of it (an occluder), or the bin was mixed
+};
+
 class MotionTest {
  public:
   /// `grid`: bins of the free-space evidence (segmentation.free_space_bin_deg).
@@ -38,9 +48,10 @@ class MotionTest {
   /// Tests the points `indices` of `frame` (a cluster whose box is centred at `center`): a
   /// point with no reference point within motion_distance (+ motion_distance_per_m per metre
   /// of the cluster's range) that passes the free-space check has moved and is marked 1 in
-  /// `moved` (indexed like frame.points). Returns how many moved.
+  /// `moved` (indexed like frame.points). Returns how many moved; `evidence` (optional) gets
+  /// what was found per point.
   int markMoved(const Frame& frame, const std::vector<int>& indices, const Eigen::Vector2d& center,
-                std::vector<char>* moved) const;
+                std::vector<char>* moved, MotionEvidence* evidence = nullptr) const;
 
   /// Adds a processed frame to the history: its returns as free-space evidence, and as
   /// reference points those it did not give to tracks (`tracked_point`, per frame point) when
@@ -58,7 +69,8 @@ class MotionTest {
     std::vector<float> max_range;  ///< farthest return per angular bin seen from origin [m]; 0 = none
     std::vector<float> min_range;  ///< nearest return per angular bin seen from origin [m]; inf = none
   };
-  bool pointMoved(const Frame& frame, const Eigen::Vector3f& p) const;
+  enum class Verdict { kMoved, kSurface, kUndecided };
+  Verdict pointMoved(const Frame& frame, const Eigen::Vector3f& p) const;
   bool unseenMoved(const Eigen::Vector3f& p) const;
 
   SegmentationParams params_;
