@@ -11,6 +11,7 @@
 // the goal, at the first collision or at the timeout. Prints a table and writes JSON
 // {"results": [{"n_dynamic", "runs", "success_rate", "collisions", "time_to_goal_s",
 //               "realtime_factor", "tracking_recall", "velocity_error_mps", "velocity_error_over_std",
+//               "mota", "idsw", "fn_rate", "fp_rate", "motp",
 //               "latency_ms": {"driver", "perception", "planner", "controller"}}]}
 // (tracking_recall: median over runs of the share of visible movers within 10 m with a track
 // within 0.7 m; velocity_error_mps: median over runs of the mean |v_track - v_mover| of those
@@ -249,14 +250,15 @@ int main(int argc, char** argv) {
                       modelTag(task.variant).c_str(), task.faulty ? " faults" : "", r.error.c_str());
         } else {
           std::printf("N_d=%3d seed=%4llu%s%s %-9s t_goal=%6.1fs sim=%6.1fs wall=%6.1fs rtf=%5.2f left=%5.1fm "
-                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s%s\n",
+                      "clear=%5.2fm frames=%lld plans=%lld leak=%.1f/s recall=%.2f verr=%.2f mota=%.2f idsw=%lld | med ms drv %.3f per %.2f pln %.2f ctl %.3f | cpu rtf %.2f%s%s%s\n",
                       r.n_dynamic, (unsigned long long)r.seed, modelTag(task.variant).c_str(),
                       task.faulty ? " faults" : "",
                       r.success ? "success" : (r.collision ? "COLLISION" : "timeout"), r.time_to_goal_s, r.sim_s,
                       r.wall_s, r.wall_s > 0 ? r.sim_s / r.wall_s : NAN, r.dist_left, r.min_clearance,
                       (long long)(r.messages.count(ucon::channels::kLidarPoints) ? r.messages.at(ucon::channels::kLidarPoints) : 0),
                       (long long)(r.messages.count(ucon::channels::kPlannerTrajectory) ? r.messages.at(ucon::channels::kPlannerTrajectory) : 0),
-                      r.sim_s > 0 ? r.leaked_static / r.sim_s : NAN, r.recall, r.velocity_error, percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
+                      r.sim_s > 0 ? r.leaked_static / r.sim_s : NAN, r.recall, r.velocity_error,
+                      r.mot.num_objects > 0 ? r.mot.mota : NAN, (long long)r.mot.num_switches, percentile(r.stages[0].samples_ms, 0.5), percentile(r.stages[1].samples_ms, 0.5),
                       percentile(r.stages[2].samples_ms, 0.5), percentile(r.stages[3].samples_ms, 0.5),
                       r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN, r.plan_tally.c_str(), r.collision ? " | hit " : "",
                       r.collision ? (r.collision_with + " at robot speed " + num(r.robot_speed_at_hit) + " m/s").c_str() : "");
@@ -343,6 +345,14 @@ int main(int argc, char** argv) {
     std::printf("  %sN_d=%d: %.3f / %.3f / %.2f", several ? (r.model + " ").c_str() : "", r.n_dynamic,
                 percentile(r.recall, 0.5), percentile(r.verr, 0.5),
                 percentile(r.vcons, 0.5));
+  std::printf("\n");
+  std::printf("tracking, CLEAR-MOT median over runs (every mover within %.0f m of the robot, matched within %.0f m; "
+              "hidden ones count as misses): MOTA / IDSW / FN / FP / MOTP [m]:",
+              MissionAdapter::kMotRange, MissionAdapter::kMotThreshold);
+  for (const auto& r : rows)
+    std::printf("  %sN_d=%d: %.1f %% / %.0f / %.1f %% / %.1f %% / %.3f", several ? (r.model + " ").c_str() : "",
+                r.n_dynamic, 100 * percentile(r.mota, 0.5), percentile(r.idsw, 0.5), 100 * percentile(r.fn_rate, 0.5),
+                100 * percentile(r.fp_rate, 0.5), percentile(r.motp, 0.5));
   std::printf("\n");
   if (pipeline.serial)
     std::printf("\nWall time per simulated second [ms] (share of the loop): driver, perception, planner, "
@@ -499,7 +509,10 @@ int main(int argc, char** argv) {
          << ", \"pipelined\": " << (pipeline.serial ? "false" : "true")
          << ", \"tracking_recall\": " << num(percentile(r.recall, 0.5))
          << ", \"velocity_error_mps\": " << num(percentile(r.verr, 0.5))
-         << ", \"velocity_error_over_std\": " << num(percentile(r.vcons, 0.5)) << ", \"latency_ms\": {";
+         << ", \"velocity_error_over_std\": " << num(percentile(r.vcons, 0.5))
+         << ", \"mota\": " << num(percentile(r.mota, 0.5)) << ", \"idsw\": " << num(percentile(r.idsw, 0.5))
+         << ", \"fn_rate\": " << num(percentile(r.fn_rate, 0.5)) << ", \"fp_rate\": " << num(percentile(r.fp_rate, 0.5))
+         << ", \"motp\": " << num(percentile(r.motp, 0.5)) << ", \"latency_ms\": {";
       for (int k = 0; k < kNumStages; ++k) {
         js << (k ? ", " : "") << "\"" << kStages[k] << "\": " << num(percentile(r.samples[k], 0.5));
       }

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "ucon/channels.hpp"
+#include "ucon/mot/runtime_frames.hpp"
 #include "ucon/robot_pose_t.hpp"
 #include "ucon/static_points_t.hpp"
 #include "ucon/trajectory_t.hpp"
@@ -21,8 +22,10 @@ std::vector<std::string> MissionAdapter::outputChannels() const { return {channe
 rp::FeedResult MissionAdapter::feed(const std::string& channel, const uint8_t* data, std::size_t size,
                                     std::vector<rp::OutputMessage>* out) {
   if (channel == channels::kPerceptionObjects) {
-    // Kept only to say, at a collision, whether perception tracked what was hit.
-    if (!collided_ && !rp::decodeExact(data, size, &last_objects_)) return rp::FeedResult::kDecodeError;
+    // Scored, and kept to say at a collision whether perception tracked what was hit.
+    if (collided_) return rp::FeedResult::kHandled;
+    if (!rp::decodeExact(data, size, &last_objects_)) return rp::FeedResult::kDecodeError;
+    scoreObjects(last_objects_);
     return rp::FeedResult::kHandled;
   }
   if (channel == channels::kPerceptionStatic) {
@@ -56,8 +59,26 @@ rp::FeedResult MissionAdapter::feed(const std::string& channel, const uint8_t* d
   return rp::FeedResult::kIgnored;
 }
 
+void MissionAdapter::scoreObjects(const tracked_objects_t& objects) {
+  const sim_ground_truth_t* g = nullptr;
+  int64_t best = 50'000;  // [us]
+  for (const auto& c : recent_gt_) {
+    const int64_t dt = std::abs(c.utime - objects.utime);
+    if (dt <= best) best = dt, g = &c;
+  }
+  if (g == nullptr) return;
+  mot::RuntimeEvalOptions eval;
+  eval.threshold_m = kMotThreshold;
+  eval.max_range_m = kMotRange;
+  mot_.updateXY(mot::groundTruthAt(*g, objects.utime, eval), mot::hypothesesOf(objects, eval), eval.threshold_m);
+}
+
 void MissionAdapter::onGroundTruth(const sim_ground_truth_t& m) {
   node_.onGroundTruth(m);
+  if (!collided_) {
+    recent_gt_.push_back(m);
+    while (recent_gt_.size() > 16) recent_gt_.pop_front();
+  }
   // The last 2 s of ground truth with the tracks of the time, for the collision report.
   if (!collided_) {
     recent_.push_back({m, last_objects_, last_plan_, last_static_});
@@ -210,6 +231,13 @@ void Row::add(const RunResult& r) {
   if (std::isfinite(r.recall)) recall.push_back(r.recall);
   if (std::isfinite(r.velocity_error)) verr.push_back(r.velocity_error);
   if (std::isfinite(r.velocity_error_over_std)) vcons.push_back(r.velocity_error_over_std);
+  if (r.mot.num_objects > 0) {
+    mota.push_back(r.mot.mota);
+    idsw.push_back(static_cast<double>(r.mot.num_switches));
+    fn_rate.push_back(r.mot.fn_rate);
+    fp_rate.push_back(r.mot.fp_rate);
+    if (std::isfinite(r.mot.motp)) motp.push_back(r.mot.motp);
+  }
   for (int k = 0; k < kNumStages; ++k) {
     samples[k].insert(samples[k].end(), r.stages[k].samples_ms.begin(), r.stages[k].samples_ms.end());
     stage_total_ms[k] += r.stages[k].total_ms;

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "probes.hpp"
+#include "ucon/mot/clear_mot.hpp"
 #include "ucon/mission/mission_node.hpp"
 #include "ucon/sim_ground_truth_t.hpp"
 #include "ucon/tracked_objects_t.hpp"
@@ -61,10 +62,17 @@ class MissionAdapter : public rp::NodeAdapter {
   bool timedOut() const { return node_.done() && !reached_all_; }
   mission::MissionSummary summary() const { return node_.summary(); }
   const TrackingTally& tracking() const { return tracking_; }
+  /// CLEAR-MOT of every PERCEPTION_OBJECTS until the first collision against the ground truth
+  /// nearest in time (within 50 ms): every mover within kMotRange of the robot, matched within
+  /// kMotThreshold (bench worlds compute no visibility: hidden movers count as misses).
+  mot::ClearMotSummary clearMot() const { return mot_.summary(); }
+  static constexpr double kMotRange = 15.0;     ///< [m] perception's crop range
+  static constexpr double kMotThreshold = 1.0;  ///< [m] as bench perception
 
  private:
   void onGroundTruth(const sim_ground_truth_t& m);
   void tallyTracking(const sim_ground_truth_t& m);
+  void scoreObjects(const tracked_objects_t& objects);
   void reportCollision(const sim_ground_truth_t& m);
   /// One line per 0.25 s before the hit: the mover and robot as they were, the nearest track.
   std::string moverHistory(int64_t id) const;
@@ -72,6 +80,8 @@ class MissionAdapter : public rp::NodeAdapter {
   mission::MissionNode node_;
   bool reached_all_ = false, collided_ = false, hit_mover_ = false;
   TrackingTally tracking_;
+  mot::ClearMotAccumulator mot_;
+  std::deque<sim_ground_truth_t> recent_gt_;  ///< the last ground truths, for scoring objects
   std::string collision_with_;
   tracked_objects_t last_objects_;
   std::string last_plan_;
@@ -110,6 +120,7 @@ struct RunResult {
   double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
   double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
   double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
+  mot::ClearMotSummary mot;  ///< MissionAdapter::clearMot()
   StageTimes stages[kNumStages];
   /// Faults injected (--faults): deliveries lost, late, lost to a killed node (inputs and outputs
   /// in flight), restarts.
@@ -130,6 +141,7 @@ struct Row {
   double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
   int hit_mover = 0, hit_static = 0;
   std::vector<double> recall, verr, vcons;  // per run
+  std::vector<double> mota, idsw, fn_rate, fp_rate, motp;  // per run (CLEAR-MOT)
   std::vector<double> samples[kNumStages];
   double stage_total_ms[kNumStages] = {0, 0, 0, 0};
   std::map<std::string, double> by_input_ms[kNumStages];

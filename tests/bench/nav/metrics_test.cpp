@@ -1,0 +1,83 @@
+// bench nav's tracking figures: CLEAR-MOT of perception's output against the ground truth, as
+// the mission adapter in the loop sees both.
+#include "metrics.hpp"
+
+#include <gtest/gtest.h>
+
+#include "ucon/channels.hpp"
+
+namespace {
+
+using ucon::bench::nav::MissionAdapter;
+
+template <typename M>
+std::vector<uint8_t> encode(const M& m) {
+  std::vector<uint8_t> b(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(b.data(), 0, static_cast<int>(b.size()));
+  return b;
+}
+
+ucon::sim_ground_truth_t groundTruth(int64_t t, std::vector<std::pair<int64_t, double>> movers) {
+  ucon::sim_ground_truth_t g{};
+  g.utime = t;
+  for (const auto& [id, x] : movers) {
+    ucon::sim_object_t o{};
+    o.id = id;
+    o.x = x;
+    o.y = 0.0;
+    o.radius = 0.25;
+    o.visible = 1.0;
+    g.objects.push_back(o);
+  }
+  g.num_objects = static_cast<int32_t>(g.objects.size());
+  return g;
+}
+
+ucon::tracked_objects_t tracks(int64_t t, std::vector<std::pair<int64_t, double>> xs) {
+  ucon::tracked_objects_t m{};
+  m.utime = t;
+  m.valid = true;
+  for (const auto& [id, x] : xs) {
+    ucon::tracked_object_t o{};
+    o.id = id;
+    o.x = x;
+    o.state = ucon::tracked_object_t::STATE_CONFIRMED;
+    m.objects.push_back(o);
+  }
+  m.num_objects = static_cast<int32_t>(m.objects.size());
+  return m;
+}
+
+void feed(MissionAdapter& a, const std::string& channel, const std::vector<uint8_t>& b) {
+  std::vector<ucon::replay::OutputMessage> out;
+  ASSERT_EQ(a.feed(channel, b.data(), b.size(), &out), ucon::replay::FeedResult::kHandled);
+}
+
+}  // namespace
+
+TEST(NavTracking, GivenTracksOnSomeMoversThenClearMotCountsMissesFalsePositivesAndRange) {
+  MissionAdapter a(ucon::mission::MissionParams{}, {Eigen::Vector2d(30.0, 0.0)}, 60.0);
+  // Ten frames: movers at 3 m and 6 m (scored) and 20 m (beyond the 15 m scored); one track
+  // 0.2 m off the first mover, one 3 m from everything (a false positive). The ground truth
+  // comes 10 ms before each frame's objects.
+  for (int f = 0; f < 10; ++f) {
+    const int64_t t = 1'000'000 + f * 20'000;
+    feed(a, ucon::channels::kSimGroundTruth, encode(groundTruth(t - 10'000, {{1, 3.0}, {2, 6.0}, {3, 20.0}})));
+    feed(a, ucon::channels::kPerceptionObjects, encode(tracks(t, {{7, 3.2}, {8, 9.0}})));
+  }
+  const auto s = a.clearMot();
+  EXPECT_EQ(s.num_frames, 10);
+  EXPECT_EQ(s.num_objects, 20);
+  EXPECT_EQ(s.num_matches, 10);
+  EXPECT_EQ(s.num_misses, 10);
+  EXPECT_EQ(s.num_false_positives, 10);
+  EXPECT_EQ(s.num_switches, 0);
+  EXPECT_NEAR(s.mota, 0.0, 1e-12);  // 1 - (10 + 10) / 20
+  EXPECT_NEAR(s.motp, 0.2, 1e-9);
+
+  // Objects with no ground truth within 50 ms are not scored.
+  MissionAdapter b(ucon::mission::MissionParams{}, {Eigen::Vector2d(30.0, 0.0)}, 60.0);
+  feed(b, ucon::channels::kSimGroundTruth, encode(groundTruth(1'000'000, {{1, 3.0}})));
+  feed(b, ucon::channels::kPerceptionObjects, encode(tracks(1'100'000, {{7, 3.0}})));
+  EXPECT_EQ(b.clearMot().num_frames, 0);
+}
