@@ -22,12 +22,7 @@ Eigen::Vector3f along(float r, float deg = 0.5f) {
 }
 
 // One second of parked frames (50 Hz) whose returns are `returns`, then a frame 1.2 s in with
-// the single point `p`: whether the test marks it moved.
-// The same, returning what the test found for the point.
-MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p);
-
-bool movedAgainst(const Points& returns, const Eigen::Vector3f& p) { return evidenceAgainst(returns, p).moved == 1; }
-
+// the single point `p`: what the test found for it.
 MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p) {
   const SegmentationParams params;
   const AngularGrid grid(params.free_space_bin_deg);
@@ -55,6 +50,9 @@ MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p) 
   EXPECT_EQ(e.near_reference + e.moved + e.surface + e.undecided, 1);
   return e;
 }
+
+// Whether the test marks the point moved.
+bool movedAgainst(const Points& returns, const Eigen::Vector3f& p) { return evidenceAgainst(returns, p).moved == 1; }
 
 }  // namespace
 
@@ -90,7 +88,6 @@ TEST(MotionTest, GivenNewSurfaceWhereNoReferenceBinAroundItSawAnythingThenItMove
   // Open space: nothing was seen within a bin of the point (only far off to the side).
   EXPECT_TRUE(movedAgainst({along(8.0f, 10.5f)}, along(5.0f)));
 }
-
 
 TEST(MotionTest, GivenEachKindOfEvidenceThenThePointIsCountedUnderIt) {
   // A reference point where the point is: not new surface.

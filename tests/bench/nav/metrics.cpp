@@ -60,11 +60,12 @@ rp::FeedResult MissionAdapter::feed(const std::string& channel, const uint8_t* d
 }
 
 void MissionAdapter::scoreObjects(const tracked_objects_t& objects) {
+  // The ground truth nearest in time, from the snapshots kept for the collision report.
   const sim_ground_truth_t* g = nullptr;
   int64_t best = 50'000;  // [us]
-  for (const auto& c : recent_gt_) {
-    const int64_t dt = std::abs(c.utime - objects.utime);
-    if (dt <= best) best = dt, g = &c;
+  for (auto it = recent_.rbegin(); it != recent_.rend() && it->gt.utime >= objects.utime - best; ++it) {
+    const int64_t dt = std::abs(it->gt.utime - objects.utime);
+    if (dt <= best) best = dt, g = &it->gt;
   }
   if (g == nullptr) return;
   mot::RuntimeEvalOptions eval;
@@ -75,10 +76,6 @@ void MissionAdapter::scoreObjects(const tracked_objects_t& objects) {
 
 void MissionAdapter::onGroundTruth(const sim_ground_truth_t& m) {
   node_.onGroundTruth(m);
-  if (!collided_) {
-    recent_gt_.push_back(m);
-    while (recent_gt_.size() > 16) recent_gt_.pop_front();
-  }
   // The last 2 s of ground truth with the tracks of the time, for the collision report.
   if (!collided_) {
     recent_.push_back({m, last_objects_, last_plan_, last_static_});

@@ -16,8 +16,8 @@
 #include <Eigen/Core>
 
 #include "probes.hpp"
-#include "ucon/mot/clear_mot.hpp"
 #include "ucon/mission/mission_node.hpp"
+#include "ucon/mot/clear_mot.hpp"
 #include "ucon/sim_ground_truth_t.hpp"
 #include "ucon/tracked_objects_t.hpp"
 
@@ -81,7 +81,6 @@ class MissionAdapter : public rp::NodeAdapter {
   bool reached_all_ = false, collided_ = false, hit_mover_ = false;
   TrackingTally tracking_;
   mot::ClearMotAccumulator mot_;
-  std::deque<sim_ground_truth_t> recent_gt_;  ///< the last ground truths, for scoring objects
   std::string collision_with_;
   tracked_objects_t last_objects_;
   std::string last_plan_;

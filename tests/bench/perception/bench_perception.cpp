@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <numeric>
 #include <memory>
 #include <string>
 #include <vector>
@@ -312,11 +313,10 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
   }
   for (const auto& [key, e] : mc) {
     int64_t total = 0;
-    for (const auto& c : e)
-      for (int64_t k : c) total += k;
+    for (const auto& c : e) total = std::accumulate(c.begin(), c.end(), total);
     std::printf("  %-12s %-14s %lld missed\n", key.first.c_str(), key.second.c_str(), static_cast<long long>(total));
     for (int c = 0; c < ucon::bench::kMissCauses; ++c) {
-      const int64_t n = e[c][0] + e[c][1] + e[c][2] + e[c][3];
+      const int64_t n = std::accumulate(e[c].begin(), e[c].end(), int64_t{0});
       std::printf("      %-20s %5.1f %%  %6lld / %6lld / %6lld / %6lld\n", ucon::bench::missCauseName(static_cast<ucon::bench::MissCause>(c)),
                   total > 0 ? 100.0 * static_cast<double>(n) / static_cast<double>(total) : 0.0,
                   static_cast<long long>(e[c][0]), static_cast<long long>(e[c][1]), static_cast<long long>(e[c][2]),

@@ -37,8 +37,8 @@
 #include "ucon/replay/node_adapter.hpp"
 #include "ucon/robot_pose_t.hpp"
 #include "ucon/sim_ground_truth_t.hpp"
-#include "ucon/tracked_objects_t.hpp"
 #include "ucon/simulator/params.hpp"
+#include "ucon/tracked_objects_t.hpp"
 #include "ucon/world/scenario.hpp"
 
 namespace ucon {
