@@ -453,6 +453,8 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
     std::set<int64_t> static_fp_ids;
     std::vector<double> static_fp_age, static_fp_speed;
     int64_t static_fp_coasting = 0;
+    int64_t coast_us = 0;                   ///< the method's max_coast
+    std::map<int64_t, int64_t> last_seen;  ///< mover id -> utime of its last output with enough returns
   };
   std::vector<Run> runs(methods.size());
   for (std::size_t k = 0; k < methods.size(); ++k) {
@@ -461,6 +463,7 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
     if (const auto* b = dynamic_cast<const replay::BoundAdapter<perception::PerceptionNode>*>(runs[k].node.get()))
       runs[k].node_view = &b->node();
     runs[k].accumulate = params[k].preprocess.accumulate_frames;
+    runs[k].coast_us = static_cast<int64_t>(std::llround(1e6 * params[k].tracks.max_coast));
   }
   std::optional<world::World> world;
   if (!rec.scenario.statics.empty() && !world::validate(rec.scenario)) world.emplace(rec.scenario);
@@ -493,7 +496,21 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
         if (auto f = frame_returns.find(s); f != frame_returns.end())
           for (const auto& [id, k] : f->second) seen[id] += k;
       std::vector<char> hidden(gt_now.size(), 0);
-      for (std::size_t i = 0; i < gt_now.size(); ++i) hidden[i] = seen[gt_now[i].id] < options.min_visible_points;
+      for (std::size_t i = 0; i < gt_now.size(); ++i) {
+        const int k = seen[gt_now[i].id];
+        hidden[i] = k < options.min_visible_points;
+        auto& sh = r.score.sensor;
+        ++sh.objects;
+        const auto last = r.last_seen.find(gt_now[i].id);
+        if (!hidden[i]) {
+          ++sh.visible, ++sh.held, ++sh.seen;
+          sh.well_seen += k >= kWellSeenPoints;
+          r.last_seen[gt_now[i].id] = objs.utime;
+        } else if (last != r.last_seen.end()) {
+          ++sh.seen;
+          sh.held += objs.utime - last->second <= r.coast_us;
+        }
+      }
       r.all.updateXY(gt_now, hyps, eval.threshold_m);
       const auto fe = r.visible.updateXY(gt_now, hyps, eval.threshold_m, &hidden);
       const auto rp = poses.at(objs.utime);

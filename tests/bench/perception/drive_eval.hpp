@@ -210,7 +210,18 @@ struct MethodScore {
   double fp_static_coasting_share = NAN;
   /// Visibility-aware misses by cause (MissCause) and range band of the mover (missRangeBand).
   int64_t miss_causes[kMissCauses][kMissRangeBands] = {};
+  /// What the sensor allowed, over the object-frames of `all` (every scored mover in every
+  /// published output): those with at least min_visible_points returns in that output's
+  /// frames (`visible`), with at least kWellSeenPoints (`well_seen`), with enough returns in
+  /// that output or in one at most the method's max_coast before it (`held`: what a tracker
+  /// that coasts as long as this one can hold at best), and in that output or any earlier one
+  /// (`seen`). A tracker knows nothing of a mover it has never seen, so the plain MOTA cannot
+  /// exceed seen / objects, whatever the method.
+  struct SensorShare {
+    int64_t objects = 0, visible = 0, well_seen = 0, held = 0, seen = 0;
+  } sensor;
 };
+constexpr int kWellSeenPoints = 10;  ///< returns on a mover in a frame that make it well seen
 
 /// Replays `rec` through a perception node per method (`params` in the same order as
 /// `methods`) and scores each. Throws std::runtime_error on an undecodable recorded event.

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "ucon/channels.hpp"
@@ -192,6 +193,10 @@ TEST(DriveScoring, GivenAMoverTheSensorNeverSeesWhenScoredThenItIsAMissOnlyWitho
   EXPECT_EQ(s[0].visible.num_objects, 0);
   EXPECT_EQ(s[0].visible.num_misses, 0);
   EXPECT_EQ(s[0].visible.num_ignored, 10);
+  EXPECT_EQ(s[0].sensor.objects, 10);  // never seen: no tracker could have held it
+  EXPECT_EQ(s[0].sensor.visible, 0);
+  EXPECT_EQ(s[0].sensor.seen, 0);
+  EXPECT_EQ(s[0].sensor.held, 0);
 
   // The same mover with returns on its body: now it is scored in both.
   ucon::bench::Recording seen;
@@ -211,6 +216,49 @@ TEST(DriveScoring, GivenAMoverTheSensorNeverSeesWhenScoredThenItIsAMissOnlyWitho
   // miss is the motion test's, in the nearest range band.
   EXPECT_EQ(v[0].visible.num_misses, 10);
   EXPECT_EQ(v[0].miss_causes[ucon::bench::kMissMotionOther][0], 10);
+  EXPECT_EQ(v[0].sensor.visible, 10);
+  // 6 returns a frame, counted over the frames the node merges for one output.
+  const int merged = shipped.preprocess.accumulate_frames;
+  int64_t well = 0;
+  for (int f = 0; f < 10; ++f) well += 6 * std::min(f + 1, merged) >= ucon::bench::kWellSeenPoints;
+  EXPECT_EQ(v[0].sensor.well_seen, well);
+}
+
+TEST(DriveScoring, GivenAMoverSeenAndThenHiddenThenTheSensorSharesCountWhatATrackerCouldHold) {
+  // 100 frames of a parked robot: a mover at (5, 0) with 12 returns on it in frames 0-4, none
+  // afterwards. Every later object-frame was seen before; those within the method's coast time
+  // after frame 4 could still be held; well seen only in frames 0-4.
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  ucon::bench::Recording rec;
+  std::vector<P> wall;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 5; ++k) wall.push_back({-6.0f, -3.0f + 0.1f * i, 0.3f + 0.3f * k});
+  const int64_t t0 = 1'000'000, dt = 20'000;
+  for (int f = 0; f < 100; ++f) {
+    const int64_t t = t0 + f * dt;
+    auto pts = wall;
+    if (f < 5)
+      for (int k = 0; k < 12; ++k) pts.push_back({4.78f, -0.15f + 0.025f * k, 0.3f + 0.1f * k});
+    rec.events.push_back(event(ucon::channels::kRobotPose, pose(t, 0, 0, 0)));
+    rec.events.push_back(event(ucon::channels::kSimGroundTruth, groundTruth(t, {mover(3, 5.0, 0.0)})));
+    rec.events.push_back(event(ucon::channels::kLidarPoints, cloud(t, f, pts)));
+  }
+  const auto s = ucon::bench::scoreRecording(rec, {"ucon"}, {shipped}, ucon::bench::ScoreOptions{});
+  ASSERT_EQ(s.size(), 1u);
+  const auto& sh = s[0].sensor;
+  EXPECT_EQ(sh.objects, s[0].all.num_objects);
+  EXPECT_EQ(sh.objects, 100);
+  // An output merges the node's last `merged` frames: frame 4's returns are still in frame
+  // 4 + merged - 1's output.
+  const int merged = shipped.preprocess.accumulate_frames;
+  ASSERT_GE(merged, 1);
+  EXPECT_EQ(sh.visible, s[0].visible.num_objects);
+  EXPECT_EQ(sh.visible, 5 + merged - 1);
+  EXPECT_EQ(sh.well_seen, 5 + merged - 1);
+  EXPECT_EQ(sh.seen, 100);
+  const int64_t coast_frames = static_cast<int64_t>(std::floor(1e6 * shipped.tracks.max_coast / dt + 1e-9));
+  ASSERT_LT(5 + merged - 1 + coast_frames, 100);  // the hidden stretch outlasts the coast time
+  EXPECT_EQ(sh.held, 5 + merged - 1 + coast_frames);
 }
 
 TEST(DriveMissCauses, GivenEachSituationOfAMissedMoverThenItsCauseIsTheFirstThatApplies) {
