@@ -34,7 +34,8 @@ std::string shippedText() {
   X(preprocess.max_height) X(preprocess.accumulate_frames) X(preprocess.voxel_size)                \
   X(preprocess.sensor_origin)                                                                      \
   X(segmentation.cluster_tolerance) X(segmentation.min_cluster_points)                             \
-  X(segmentation.max_cluster_points) X(segmentation.max_object_size)                               \
+  X(segmentation.max_cluster_points) X(segmentation.far_cluster_range)                             \
+  X(segmentation.far_cluster_tolerance) X(segmentation.max_object_size)                            \
   X(segmentation.min_object_height) X(segmentation.history_min_age)                                \
   X(segmentation.history_max_age) X(segmentation.history_chunk) X(segmentation.motion_distance)    \
   X(segmentation.motion_distance_per_m) X(segmentation.motion_ratio)                               \

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "ucon/perception/angular_grid.hpp"
+#include "ucon/perception/detection.hpp"
 #include "ucon/perception/measurement.hpp"
 #include "ucon/perception/params.hpp"
 #include "ucon/perception/reassociation.hpp"
@@ -60,6 +61,39 @@ TEST(AngularGrid, GivenABinThenItsNeighboursWrapInAzimuthAndStopAtThePoles) {
   EXPECT_NE(std::find(got.begin(), got.end(), 179 * 90 + 45), got.end());
   // The top elevation bin has no bins above it.
   EXPECT_EQ(g.neighbours(10 * 90 + 89, nb), 5);
+}
+
+TEST(Detector, GivenSparseReturnsFarAwayThenTheFarToleranceJoinsThemButNotNearOnes) {
+  // Two sparse "people" of five returns 0.42 m apart (more than cluster_tolerance, less than
+  // far_cluster_tolerance): one 12 m from the sensor, one 4 m from it; and a dense one at 4 m
+  // on the other side. Only the far sparse one is joined by the second pass; the near clusters
+  // are those of the first pass.
+  SegmentationParams s;
+  ASSERT_LT(s.cluster_tolerance, 0.42);
+  ASSERT_GT(s.far_cluster_tolerance, 0.42);
+  ASSERT_LT(s.far_cluster_range, 12.0 - 1.0);
+  ASSERT_GT(s.far_cluster_range, 4.0 + 1.0);
+  ASSERT_LE(s.min_cluster_points, 5);
+  Frame f;
+  f.sensor_origin = Eigen::Vector3f(0.0f, 0.0f, 0.5f);
+  const auto sparse = [&](float x) {
+    for (int k = 0; k < 5; ++k) f.points.emplace_back(x, -0.84f + 0.42f * static_cast<float>(k), 1.0f);
+  };
+  sparse(12.0f);   // points 0-4
+  sparse(4.0f);    // points 5-9
+  addColumn(&f.points, -4.0f, 0.0f);  // points 10-16
+  Detector d(s);
+  const auto groups = d.cluster(f);
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0], range(10, 17));  // the near dense column, from the first pass
+  auto far = groups[1];
+  std::sort(far.begin(), far.end());
+  EXPECT_EQ(far, range(0, 5));  // the far sparse one; the near sparse one stays noise
+
+  // Off (the far tolerance at most the near one): the far sparse returns are noise too.
+  s.far_cluster_tolerance = s.cluster_tolerance;
+  Detector off(s);
+  EXPECT_EQ(off.cluster(f).size(), 1u);
 }
 
 TEST(RestrictToTrack, GivenAClusterMergedWithAPillarThenOnlyTheMovedPointsInThePredictedBoxMeasureTheTrack) {

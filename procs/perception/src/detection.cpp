@@ -10,6 +10,28 @@ Detector::Detector(const SegmentationParams& params) : params_(params) {}
 const std::vector<std::vector<int>>& Detector::cluster(const Frame& frame) {
   const SegmentationParams& s = params_;
   groups_ = clusterer_.cluster(frame.points, s.cluster_tolerance, s.min_cluster_points, s.max_cluster_points);
+  if (s.far_cluster_tolerance > s.cluster_tolerance) {
+    // Far away the scan is sparse: a person's few returns lie farther apart than the near
+    // tolerance. The points no cluster took that lie beyond far_cluster_range are clustered
+    // again with the far tolerance; near clusters stay as they were.
+    const Points& pts = frame.points;
+    std::vector<char> used(pts.size(), 0);
+    for (const auto& g : groups_)
+      for (int i : g) used[static_cast<std::size_t>(i)] = 1;
+    const Eigen::Vector2f o = frame.sensor_origin.head<2>();
+    const float r2 = static_cast<float>(s.far_cluster_range * s.far_cluster_range);
+    far_points_.clear();
+    far_index_.clear();
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (!used[i] && (pts[i].head<2>() - o).squaredNorm() >= r2) {
+        far_points_.push_back(pts[i]);
+        far_index_.push_back(static_cast<int>(i));
+      }
+    for (auto& c : clusterer_.cluster(far_points_, s.far_cluster_tolerance, s.min_cluster_points, s.max_cluster_points)) {
+      for (int& k : c) k = far_index_[static_cast<std::size_t>(k)];
+      groups_.push_back(std::move(c));
+    }
+  }
   return groups_;
 }
 

@@ -27,6 +27,8 @@ void SegmentationParams::read(ConfigReader& r) {
   r.read("cluster_tolerance", cluster_tolerance, 0.01, 5.0);
   r.read("min_cluster_points", min_cluster_points, 1, 100000);
   r.read("max_cluster_points", max_cluster_points, 1, 10000000);
+  r.read("far_cluster_range", far_cluster_range, 0.0, 100.0);
+  r.read("far_cluster_tolerance", far_cluster_tolerance, 0.0, 5.0);
   r.read("max_object_size", max_object_size, 0.05, 20.0);
   r.read("min_object_height", min_object_height, 0.0, 10.0);
   r.read("history_min_age", history_min_age, 0.0, 5.0);

@@ -50,6 +50,8 @@ class Detector {
   SegmentationParams params_;
   EuclideanClusterer clusterer_;  ///< clustering with reused scratch buffers
   std::vector<std::vector<int>> groups_;
+  Points far_points_;            ///< scratch: unclustered points beyond far_cluster_range
+  std::vector<int> far_index_;   ///< ... and their indices in the frame
 };
 
 }  // namespace perception

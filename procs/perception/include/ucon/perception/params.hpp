@@ -39,6 +39,8 @@ struct SegmentationParams {
   double cluster_tolerance = 0.35;  ///< Euclidean clustering distance [m], > 0
   int min_cluster_points = 4;       ///< smaller clusters are noise (static output), >= 1
   int max_cluster_points = 4000;    ///< larger clusters are static structure, >= min
+  double far_cluster_range = 9.0;   ///< points no cluster took this far from the sensor (x-y) [m] ...
+  double far_cluster_tolerance = 0.5;  ///< ... are clustered again with this distance (a sparse far scan) [m]; <= cluster_tolerance = off
   double max_object_size = 1.6;     ///< a cluster whose x-y box side exceeds this is static [m]
   double min_object_height = 0.3;   ///< a cluster lower than this (z extent) is not an object [m]
   double history_min_age = 0.5;     ///< reference frames are at least this old [s], >= 0
@@ -58,7 +60,7 @@ struct SegmentationParams {
   double occlusion_margin = 0.8;    ///< an occluder: a return just beyond the view's edge at least this much nearer than the edge [m]
   double static_persistence = 0.5;  ///< a point reaches PERCEPTION_STATIC once its x-y cell has been occupied this long [s]; 0 = off
   double static_cell = 0.2;         ///< x-y cell of the persistence test [m], > 0
-  double static_max_gap = 0.5;      ///< a cell not hit for longer than this starts its occupancy over [s], > 0
+  double static_max_gap = 1.0;      ///< a cell not hit for longer than this starts its occupancy over [s], > 0
   void read(ConfigReader& r);
 };
 
