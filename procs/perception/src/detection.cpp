@@ -15,7 +15,8 @@ const std::vector<std::vector<int>>& Detector::cluster(const Frame& frame) {
     // tolerance. The points no cluster took that lie beyond far_cluster_range are clustered
     // again with the far tolerance; near clusters stay as they were.
     const Points& pts = frame.points;
-    std::vector<char> used(pts.size(), 0);
+    std::vector<char>& used = far_used_;
+    used.assign(pts.size(), 0);
     for (const auto& g : groups_)
       for (int i : g) used[static_cast<std::size_t>(i)] = 1;
     const Eigen::Vector2f o = frame.sensor_origin.head<2>();

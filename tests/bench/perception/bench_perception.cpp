@@ -329,14 +329,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
               "MOTA cannot exceed the last):\n",
               o.score.min_visible_points, ucon::bench::kWellSeenPoints);
   std::map<std::pair<std::string, std::string>, ucon::bench::MethodScore::SensorShare> ss;
-  for (const auto& r : rows) {
-    auto& e = ss[{r.scene, r.score.method}];
-    e.objects += r.score.sensor.objects;
-    e.visible += r.score.sensor.visible;
-    e.well_seen += r.score.sensor.well_seen;
-    e.held += r.score.sensor.held;
-    e.seen += r.score.sensor.seen;
-  }
+  for (const auto& r : rows) ss[{r.scene, r.score.method}] += r.score.sensor;
   for (const auto& [key, e] : ss) {
     const double n = e.objects > 0 ? static_cast<double>(e.objects) : NAN;
     std::printf("  %-12s %-14s %8lld object-frames: visible %5.1f %%, well seen %5.1f %%, held %5.1f %%, seen before "

@@ -219,6 +219,10 @@ struct MethodScore {
   /// exceed seen / objects, whatever the method.
   struct SensorShare {
     int64_t objects = 0, visible = 0, well_seen = 0, held = 0, seen = 0;
+    SensorShare& operator+=(const SensorShare& o) {
+      objects += o.objects, visible += o.visible, well_seen += o.well_seen, held += o.held, seen += o.seen;
+      return *this;
+    }
   } sensor;
 };
 constexpr int kWellSeenPoints = 10;  ///< returns on a mover in a frame that make it well seen

@@ -52,6 +52,7 @@ class Detector {
   std::vector<std::vector<int>> groups_;
   Points far_points_;            ///< scratch: unclustered points beyond far_cluster_range
   std::vector<int> far_index_;   ///< ... and their indices in the frame
+  std::vector<char> far_used_;   ///< scratch: per frame point, taken by a first-pass cluster
 };
 
 }  // namespace perception
