@@ -771,3 +771,56 @@ TEST(PlannerNode, GivenANewPlanRejectedWhileThePreviousIsStillSafeThenThePreviou
   EXPECT_NE(out.trajectory->message.find("kept previous plan"), std::string::npos) << out.trajectory->message;
   EXPECT_EQ(f.report.counter("result_kept_previous"), 1);
 }
+
+namespace {
+
+// The end of the first plan toward a goal inside a pillar: the nearest reachable safe point.
+Eigen::Vector2d nearestReachable() {
+  Fixture f(false);
+  f.node->map().addCylinder(3.0, 0.0, 0.8);
+  f.node->notifyMapChanged();
+  f.feed(kT0);
+  f.node->onGoal(goal(kT0, 3.0, 0.0));
+  const auto out = f.node->tick(kT0);
+  EXPECT_TRUE(out.trajectory && out.trajectory->status == trajectory_t::STATUS_OK);
+  const auto& pp = f.node->currentTrajectory();
+  return pp.sampleRelative(pp.duration()).position.head<2>();
+}
+
+// One cycle of a robot standing at `at` with that goal, and `objs`.
+struct Holding {
+  Fixture f{false};
+  PlannerOutputs out;
+  Holding(const Eigen::Vector2d& at, const std::vector<tracked_object_t>& objs) {
+    f.node->map().addCylinder(3.0, 0.0, 0.8);
+    f.node->notifyMapChanged();
+    f.feed(kT0, at.x(), at.y(), objs);
+    f.node->onGoal(goal(kT0, 3.0, 0.0));
+    out = f.node->tick(kT0);
+  }
+};
+
+}  // namespace
+
+TEST(PlannerNode, GivenTheRobotHoldingAtTheNearestReachablePointWhenAMoverWalksAtItThenItEvades) {
+  const Eigen::Vector2d at = nearestReachable();
+  // Nothing around: it holds there (the goal is kept; the map may open).
+  const Holding quiet(at, {});
+  ASSERT_TRUE(quiet.out.trajectory);
+  EXPECT_EQ(quiet.out.trajectory->status, trajectory_t::STATUS_STOP) << quiet.out.trajectory->message;
+  EXPECT_NE(quiet.out.trajectory->message.find("inside an obstacle"), std::string::npos) << quiet.out.trajectory->message;
+  EXPECT_EQ(quiet.f.report.counter("hold_evasions"), 0);
+  // A mover 2.5 m to the side walking straight at the robot at 1 m/s: standing still is hit.
+  const std::vector<tracked_object_t> objs{object(7, at.x(), at.y() + 2.5, 0.0, -1.0)};
+  const Holding hit(at, objs);
+  ASSERT_TRUE(hit.out.trajectory && hit.out.plan);
+  EXPECT_EQ(hit.f.report.counter("hold_evasions"), 1);
+  EXPECT_EQ(hit.out.trajectory->status, trajectory_t::STATUS_OK) << hit.out.trajectory->message;
+  const int64_t from = kT0 + int64_t(hit.f.params.latency_s * 1e6);
+  const double r = hit.f.params.optimizer.robot_radius, h = hit.f.params.fallback.horizon_s;
+  const double g_hold = smallestGap(quiet.f.node->currentTrajectory(), from, objs, kT0, 0.1, h, r);
+  const double g_evade = smallestGap(hit.f.node->currentTrajectory(), from, objs, kT0, 0.1, h, r);
+  EXPECT_LT(g_hold, 0.0);
+  EXPECT_GT(g_evade, g_hold + 0.3) << g_evade << " vs " << g_hold;
+  EXPECT_GE(minMapDistance(*hit.f.node, hit.f.node->currentTrajectory()), r);
+}

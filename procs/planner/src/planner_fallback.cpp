@@ -80,6 +80,12 @@ PlannerOutputs PlannerNode::fallBack(Cycle& cycle, const StartState& start, cons
   return stop(cycle, PlanResult::kStopNoFeasible, "no feasible trajectory: " + why);
 }
 
+bool PlannerNode::holdIsHit(int64_t now) const {
+  trajectory::PiecewisePolynomial hold;
+  if (!stopPolynomial(now, &hold)) return false;
+  return score(hold, now + int64_t(params_.latency_s * kUsPerS)).min_gap <= 0.0;
+}
+
 FallbackScore PlannerNode::score(const trajectory::PiecewisePolynomial& pp, int64_t from_utime) const {
   return scoreTrajectory(pp, from_utime, Eigen::Vector2d(goal_->x, goal_->y), staticField(), obstacles_,
                          params_.optimizer.robot_radius, params_.fallback);

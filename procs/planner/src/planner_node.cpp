@@ -273,7 +273,17 @@ PlannerOutputs PlannerNode::plan(int64_t now, bool unsafe_trigger) {
   }
   const std::string guide_note = noteOnGuide(guide);
   if (initialGuess(guide, start, 0).length < 0.05 && start.v.norm() < 0.05) {
-    // Already at the nearest reachable point: hold here and keep the goal (the map may open).
+    // Already at the nearest reachable point: hold here and keep the goal (the map may open),
+    // unless a mover is predicted to walk into the robot there: then it evades as it does when
+    // no plan passes the check.
+    if (holdIsHit(cycle.now)) {
+      trajopt::PlanOutput hold;
+      hold.status = trajopt::PlanStatus::kDynamicCollision;
+      hold.message = "holding at the nearest reachable point, a mover is predicted to reach the robot";
+      rejected_.clear();
+      report_.count("hold_evasions");
+      return fallBack(cycle, start, hold);
+    }
     return stop(cycle, PlanResult::kStopNoFeasible, guide_note.empty() ? "no progress possible" : guide_note);
   }
   const trajopt::PlanOutput po = optimise(start, guide, cycle);

@@ -175,6 +175,9 @@ class PlannerNode {
   /// Nothing toward the goal passed the check (`rejected`: the last run): the fallback policy
   /// (fallback_policy.hpp) keeps the plan being followed, evades or brakes.
   PlannerOutputs fallBack(Cycle& cycle, const StartState& start, const trajopt::PlanOutput& rejected);
+  /// Standing still from `now` (the stop trajectory) is predicted to be hit: the robot's disk
+  /// reaches a mover's body grown by fallback.uncertainty_k std within fallback.horizon_s.
+  bool holdIsHit(int64_t now) const;
   PlannerOutputs conclude(Cycle& cycle, trajectory_t trajectory);
 
   // The fallback policy's parts (planner_fallback.cpp).
