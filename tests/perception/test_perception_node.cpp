@@ -498,13 +498,9 @@ int leakedPoints(const PerceptionParams& p, const std::vector<scene::Person>& pe
 TEST(PerceptionNode, GivenAMoverThenFewOfItsPointsReachTheStaticOutputAndTheWallsDoAfterThePersistence) {
   const std::vector<scene::Person> people{{-1.0, -2.0, 1.2, 0.0}};
   RunResult with, without;
-  // The persistence test alone: the person walks within near_static_range, where what no
-  // track took is published at once (the next test).
-  PerceptionParams on = testParams();
-  on.segmentation.near_static_range = 0.0;
-  PerceptionParams off = on;
+  PerceptionParams off = testParams();
   off.segmentation.static_persistence = 0.0;
-  const int leaked = leakedPoints(on, people, 150, &with);
+  const int leaked = leakedPoints(testParams(), people, 150, &with);
   const int leaked_off = leakedPoints(off, people, 150, &without);
   // A walking person's side rows hold a cell for about (cell + chord) / speed, some longer
   // than the persistence: a few of its points leak, under a tenth of the leak without the test.
@@ -768,39 +764,4 @@ TEST(PerceptionNode, GivenTheCloudsSensorOriginThenFreeSpaceRaysStartThereInstea
   EXPECT_NEAR(moved.second.origin_x, 0.3, 1e-6);
   EXPECT_NEAR(moved.second.origin_y, -0.2, 1e-6);
   EXPECT_NEAR(moved.second.origin_z, 0.8, 1e-6);
-}
-
-TEST(PerceptionNode, GivenUntrackedObjectsThenNearOnesAreStaticAtOnceAndFarOnesAfterThePersistence) {
-  // Two people standing still, never tracked (they do not move): one 2 m from the sensor, one
-  // 6 m. With near_static_range 3 m the near one is in PERCEPTION_STATIC from the first frame,
-  // the far one only once its cells have been occupied for the persistence time.
-  const std::vector<scene::Person> people{{2.0, 0.0, 0.0, 0.0}, {0.0, -6.0, 0.0, 0.0}};
-  auto count = [&](const ucon::static_points_t& s, const scene::Person& p) {
-    int n = 0;
-    for (int i = 0; i < s.num_points; ++i) n += std::hypot(s.x[i] - p.x0, s.y[i] - p.y0) < 0.4 ? 1 : 0;
-    return n;
-  };
-  for (const double range : {0.0, 3.0}) {
-    PerceptionParams p = testParams();
-    p.segmentation.near_static_range = range;
-    PerceptionNode node(p);
-    const RunResult r = run(node, 40, [&](int) { return people; }, kWalls);
-    ASSERT_EQ(r.statics.size(), 40u);
-    for (std::size_t k = 0; k < r.statics.size(); ++k) {
-      const int near = count(r.statics[k], people[0]), far = count(r.statics[k], people[1]);
-      if (k < 24) {  // before the persistence time (0.5 s)
-        EXPECT_EQ(far, 0) << "range " << range << " frame " << k;
-        if (range > 0.0) {
-          EXPECT_GT(near, 20) << "frame " << k;
-        } else {
-          EXPECT_EQ(near, 0) << "frame " << k;
-        }
-      } else if (k >= 30) {
-        EXPECT_GT(near, 20) << "range " << range << " frame " << k;
-        EXPECT_GT(far, 20) << "range " << range << " frame " << k;
-      }
-    }
-    for (const auto& o : r.objects)
-      for (const auto& t : o.objects) EXPECT_NE(t.state, TO::STATE_CONFIRMED) << "a standing person was tracked";
-  }
 }

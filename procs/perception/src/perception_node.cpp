@@ -236,15 +236,8 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   t = stopwatch_();
   if (params_.segmentation.static_persistence > 0.0) {
     persistence_.update(utime, frame_.points, &persistent_);
-    // Near the sensor, what no track took is published at once: a mover the motion test could
-    // not tell (hidden in the reference, walking where another stood) must not vanish from
-    // the planner's map while it is close enough to be hit. The map clears its old place by
-    // the rays that see through it.
-    const float near2 = static_cast<float>(params_.segmentation.near_static_range * params_.segmentation.near_static_range);
-    const Eigen::Vector2f o = frame_.sensor_origin.head<2>();
     for (std::size_t i = 0; i < frame_.points.size(); ++i)
-      if (!persistent_[i] && (frame_.points[i].head<2>() - o).squaredNorm() > near2)
-        not_static[i] = 1;
+      if (!persistent_[i]) not_static[i] = 1;
   }
   status_.time("persistence", elapsedMs(t));
   out.static_points = staticMessage(utime, static_seq_, frame_.sensor_origin_d, params_.preprocess.max_range,

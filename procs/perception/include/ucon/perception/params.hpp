@@ -61,7 +61,6 @@ struct SegmentationParams {
   double static_persistence = 0.5;  ///< a point reaches PERCEPTION_STATIC once its x-y cell has been occupied this long [s]; 0 = off
   double static_cell = 0.2;         ///< x-y cell of the persistence test [m], > 0
   double static_max_gap = 1.0;      ///< a cell not hit for longer than this starts its occupancy over [s], > 0
-  double near_static_range = 3.0;   ///< points this close to the sensor (x-y) that no track took are static at once, persistent or not [m]; 0 = off
   void read(ConfigReader& r);
 };
 
