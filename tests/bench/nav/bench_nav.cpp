@@ -339,6 +339,12 @@ int main(int argc, char** argv) {
   for (const auto& r : rows)
     std::printf("  %sN_d=%d: %d / %d", several ? (r.model + " ").c_str() : "", r.n_dynamic, r.hit_mover, r.hit_static);
   std::printf("\n");
+  std::printf("the movers hit, over the second before (up to 0.3 s before the hit): untracked / tracked poorly / "
+              "tracked well (within 0.2 m and 0.35 m/s throughout):");
+  for (const auto& r : rows)
+    std::printf("  %sN_d=%d: %d / %d / %d", several ? (r.model + " ").c_str() : "", r.n_dynamic, r.hit_untracked,
+                r.hit_tracked_poorly, r.hit_tracked_well);
+  std::printf("\n");
   std::printf("tracking, median over runs: recall (visible movers within 10 m with a track within 0.7 m) / "
               "velocity error of those within 5 m [m/s] / that error over the std the tracks state (1: consistent):");
   for (const auto& r : rows)
@@ -503,7 +509,10 @@ int main(int argc, char** argv) {
       js << (i ? ",\n  " : "\n  ") << "{\"n_dynamic\": " << r.n_dynamic << ", \"planner_model\": \"" << r.model
          << "\", \"runs\": " << r.runs
          << ", \"success_rate\": " << num(r.runs ? double(r.successes) / r.runs : NAN)
-         << ", \"collisions\": " << r.collisions << ", \"time_to_goal_s\": " << num(mean(r.ttg))
+         << ", \"collisions\": " << r.collisions << ", \"collisions_mover_untracked\": " << r.hit_untracked
+         << ", \"collisions_mover_tracked_poorly\": " << r.hit_tracked_poorly
+         << ", \"collisions_mover_tracked_well\": " << r.hit_tracked_well
+         << ", \"time_to_goal_s\": " << num(mean(r.ttg))
          << ", \"realtime_factor\": " << num(r.wall_s > 0 ? r.sim_s / r.wall_s : NAN)
          << ", \"realtime_factor_cpu\": " << num(r.cpu_s > 0 ? r.sim_s / r.cpu_s : NAN)
          << ", \"pipelined\": " << (pipeline.serial ? "false" : "true")

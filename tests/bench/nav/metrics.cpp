@@ -140,12 +140,61 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
     std::snprintf(buf, sizeof(buf), "mover %lld (%.2f m/s, r %.2f) %s; %s", static_cast<long long>(hit->id),
                   std::hypot(hit->vx, hit->vy), hit->radius, trk, last_plan_.c_str());
     history_ = moverHistory(hit->id);
+    hit_tracking_ = moverTracking(hit->id);
     hit_mover_ = true;
   } else {
     std::snprintf(buf, sizeof(buf), "static; %s", last_plan_.c_str());
   }
   collision_with_ = buf;
+  if (hit_mover_) collision_with_ += std::string(" [in the second before: ") + toString(hit_tracking_) + "]";
   robot_speed_at_hit_ = std::hypot(m.robot_vx, m.robot_vy);
+}
+
+const char* toString(HitTracking h) {
+  switch (h) {
+    case HitTracking::kNone: return "none";
+    case HitTracking::kUntracked: return "untracked";
+    case HitTracking::kTrackedPoorly: return "tracked poorly";
+    case HitTracking::kTrackedWell: return "tracked well";
+  }
+  return "?";
+}
+
+HitTracking classifyHitTracking(const std::vector<HitSample>& samples) {
+  if (samples.empty()) return HitTracking::kNone;
+  bool any = false, all_well = true;
+  for (const auto& s : samples) {
+    any = any || s.tracked;
+    all_well = all_well && s.tracked && s.offset < 0.2 && s.velocity_error < 0.35;
+  }
+  return !any ? HitTracking::kUntracked : all_well ? HitTracking::kTrackedWell : HitTracking::kTrackedPoorly;
+}
+
+HitTracking MissionAdapter::moverTracking(int64_t id) const {
+  if (recent_.empty()) return HitTracking::kNone;
+  const int64_t t_hit = recent_.back().gt.utime;
+  std::vector<HitSample> samples;
+  for (const Snapshot& s : recent_) {
+    const int64_t before = t_hit - s.gt.utime;
+    if (before > 1'000'000 || before < 300'000) continue;
+    const sim_object_t* o = nullptr;
+    for (const auto& c : s.gt.objects)
+      if (c.id == id) o = &c;
+    if (!o) continue;
+    HitSample h;
+    double td = 1.5;
+    for (const auto& t : s.tracks.objects) {
+      const double d = std::hypot(t.x - o->x, t.y - o->y);
+      if (d < td && std::isfinite(t.vx) && std::isfinite(t.vy)) {
+        td = d;
+        h.tracked = true;
+        h.offset = d;
+        h.velocity_error = std::hypot(t.vx - o->vx, t.vy - o->vy);
+      }
+    }
+    samples.push_back(h);
+  }
+  return classifyHitTracking(samples);
 }
 
 std::string MissionAdapter::moverHistory(int64_t id) const {
@@ -225,6 +274,11 @@ void Row::add(const RunResult& r) {
   cpu_s += r.cpu_s;
   wait_s += r.wait_s;
   if (r.collision) (r.hit_mover ? hit_mover : hit_static) += 1;
+  if (r.collision && r.hit_mover) {
+    hit_untracked += r.hit_tracking == HitTracking::kUntracked;
+    hit_tracked_poorly += r.hit_tracking == HitTracking::kTrackedPoorly;
+    hit_tracked_well += r.hit_tracking == HitTracking::kTrackedWell;
+  }
   if (std::isfinite(r.recall)) recall.push_back(r.recall);
   if (std::isfinite(r.velocity_error)) verr.push_back(r.velocity_error);
   if (std::isfinite(r.velocity_error_over_std)) vcons.push_back(r.velocity_error_over_std);

@@ -37,6 +37,21 @@ struct TrackingTally {
   double velocityErrorOverStd() const { return vvar_sum > 0.0 ? std::sqrt(verr2_sum / vvar_sum) : NAN; }
 };
 
+/// How perception held the mover a run collided with, over the second before the hit (0.3 s
+/// and less before it cannot change the outcome): never a track within 1.5 m, a track within
+/// 0.2 m and 0.35 m/s of the mover at every sample, or anything between (late, off, coasting
+/// away, a wrong velocity after a switch).
+enum class HitTracking { kNone, kUntracked, kTrackedPoorly, kTrackedWell };
+const char* toString(HitTracking h);
+/// One sample of the mover hit: whether a track lay within 1.5 m, its distance [m] and the
+/// size of its velocity error [m/s].
+struct HitSample {
+  bool tracked = false;
+  double offset = NAN, velocity_error = NAN;
+};
+/// kNone without samples.
+HitTracking classifyHitTracking(const std::vector<HitSample>& samples);
+
 /// The mission in the loop: ROBOT_POSE and SIM_GROUND_TRUTH in, NAV_GOAL out (the scenario's
 /// goals in order, re-sent every resend_period_s until reached, as ucon-mission does). Also
 /// tallies the tracking quality and, at the first collision, reports what was hit.
@@ -58,6 +73,7 @@ class MissionAdapter : public rp::NodeAdapter {
   const std::string& collisionWith() const { return collision_with_; }
   const std::string& history() const { return history_; }
   bool hitMover() const { return hit_mover_; }
+  HitTracking hitTracking() const { return hit_tracking_; }
   double robotSpeedAtHit() const { return robot_speed_at_hit_; }
   bool timedOut() const { return node_.done() && !reached_all_; }
   mission::MissionSummary summary() const { return node_.summary(); }
@@ -76,9 +92,12 @@ class MissionAdapter : public rp::NodeAdapter {
   void reportCollision(const sim_ground_truth_t& m);
   /// One line per 0.25 s before the hit: the mover and robot as they were, the nearest track.
   std::string moverHistory(int64_t id) const;
+  /// The mover's nearest track over the snapshots 1.0-0.3 s before the last one.
+  HitTracking moverTracking(int64_t id) const;
 
   mission::MissionNode node_;
   bool reached_all_ = false, collided_ = false, hit_mover_ = false;
+  HitTracking hit_tracking_ = HitTracking::kNone;
   TrackingTally tracking_;
   mot::ClearMotAccumulator mot_;
   std::string collision_with_;
@@ -110,6 +129,7 @@ struct RunResult {
   double min_clearance = NAN;
   std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
   bool hit_mover = false;
+  HitTracking hit_tracking = HitTracking::kNone;  ///< of the mover hit (MissionAdapter::hitTracking())
   std::string plan_tally;  ///< " fallbacks k=n ...": the planner's counters of what it did when a plan failed its check
   double robot_speed_at_hit = NAN;
   double dist_start_goal = 0.0, dist_left = 0.0;
@@ -139,6 +159,7 @@ struct Row {
   std::vector<double> ttg;
   double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
   int hit_mover = 0, hit_static = 0;
+  int hit_untracked = 0, hit_tracked_poorly = 0, hit_tracked_well = 0;  ///< collisions with movers by HitTracking
   std::vector<double> recall, verr, vcons;  // per run
   std::vector<double> mota, idsw, fn_rate, fp_rate, motp;  // per run (CLEAR-MOT)
   std::vector<double> samples[kNumStages];

@@ -81,3 +81,17 @@ TEST(NavTracking, GivenTracksOnSomeMoversThenClearMotCountsMissesFalsePositivesA
   feed(b, ucon::channels::kPerceptionObjects, encode(tracks(1'100'000, {{7, 3.0}})));
   EXPECT_EQ(b.clearMot().num_frames, 0);
 }
+
+TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsUntrackedTrackedPoorlyOrTrackedWell) {
+  using ucon::bench::nav::classifyHitTracking;
+  using ucon::bench::nav::HitSample;
+  using ucon::bench::nav::HitTracking;
+  const HitSample none{}, good{true, 0.05, 0.1}, off{true, 0.45, 0.1}, fast{true, 0.05, 0.8};
+  EXPECT_EQ(classifyHitTracking({}), HitTracking::kNone);
+  EXPECT_EQ(classifyHitTracking({none, none, none}), HitTracking::kUntracked);
+  EXPECT_EQ(classifyHitTracking({good, good, good}), HitTracking::kTrackedWell);
+  // Late (no track at first), off, or with a wrong velocity at any sample: poorly.
+  EXPECT_EQ(classifyHitTracking({none, good, good}), HitTracking::kTrackedPoorly);
+  EXPECT_EQ(classifyHitTracking({good, off, good}), HitTracking::kTrackedPoorly);
+  EXPECT_EQ(classifyHitTracking({good, good, fast}), HitTracking::kTrackedPoorly);
+}

@@ -156,6 +156,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   for (const rp::NodeAdapter* n : stage_nodes) res.cpu_s += n->helperCpuSeconds();  // the map's helper thread
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
+  res.hit_tracking = mission.hitTracking();
   res.plan_tally = planTally(stage_nodes[1]->counters());
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
   res.ok = true;
