@@ -12,6 +12,28 @@ namespace ucon::bench::nav {
 
 const char* const kStages[] = {"driver", "perception", "planner", "controller"};
 
+namespace {
+
+const sim_object_t* moverById(const sim_ground_truth_t& gt, int64_t id) {
+  const sim_object_t* o = nullptr;
+  for (const auto& c : gt.objects)
+    if (c.id == id) o = &c;
+  return o;
+}
+
+/// The track nearest to (x, y) and its distance (INFINITY without one).
+const tracked_object_t* nearestTrack(const tracked_objects_t& tracks, double x, double y, double* distance) {
+  const tracked_object_t* tr = nullptr;
+  *distance = INFINITY;
+  for (const auto& t : tracks.objects) {
+    const double d = std::hypot(t.x - x, t.y - y);
+    if (d < *distance) *distance = d, tr = &t;
+  }
+  return tr;
+}
+
+}  // namespace
+
 std::vector<std::string> MissionAdapter::inputChannels() const {
   return {channels::kRobotPose, channels::kSimGroundTruth, channels::kPerceptionObjects, channels::kPerceptionStatic,
           channels::kPlannerTrajectory};
@@ -125,12 +147,8 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
   char buf[256];
   if (hit && best < 0.05) {
     // The track nearest to the mover, if any: was it seen, and how well?
-    const tracked_object_t* tr = nullptr;
     double td = INFINITY;
-    for (const auto& t : last_objects_.objects) {
-      const double d = std::hypot(t.x - hit->x, t.y - hit->y);
-      if (d < td) td = d, tr = &t;
-    }
+    const tracked_object_t* tr = nearestTrack(last_objects_, hit->x, hit->y, &td);
     char trk[128];
     if (tr && td < 1.0)
       std::snprintf(trk, sizeof(trk), "tracked %.2f m off, v err %.2f m/s, state %d", td,
@@ -177,21 +195,12 @@ HitTracking MissionAdapter::moverTracking(int64_t id) const {
   for (const Snapshot& s : recent_) {
     const int64_t before = t_hit - s.gt.utime;
     if (before > 1'000'000 || before < 300'000) continue;
-    const sim_object_t* o = nullptr;
-    for (const auto& c : s.gt.objects)
-      if (c.id == id) o = &c;
+    const sim_object_t* o = moverById(s.gt, id);
     if (!o) continue;
     HitSample h;
-    double td = 1.5;
-    for (const auto& t : s.tracks.objects) {
-      const double d = std::hypot(t.x - o->x, t.y - o->y);
-      if (d < td && std::isfinite(t.vx) && std::isfinite(t.vy)) {
-        td = d;
-        h.tracked = true;
-        h.offset = d;
-        h.velocity_error = std::hypot(t.vx - o->vx, t.vy - o->vy);
-      }
-    }
+    const tracked_object_t* tr = nearestTrack(s.tracks, o->x, o->y, &h.offset);
+    h.tracked = tr != nullptr && h.offset < 1.5;
+    if (h.tracked) h.velocity_error = std::hypot(tr->vx - o->vx, tr->vy - o->vy);
     samples.push_back(h);
   }
   return classifyHitTracking(samples);
@@ -201,16 +210,10 @@ std::string MissionAdapter::moverHistory(int64_t id) const {
   std::string out;
   for (std::size_t k = 0; k < recent_.size(); k += 12) {
     const Snapshot& s = recent_[k];
-    const sim_object_t* o = nullptr;
-    for (const auto& c : s.gt.objects)
-      if (c.id == id) o = &c;
+    const sim_object_t* o = moverById(s.gt, id);
     if (!o) continue;
-    const tracked_object_t* tr = nullptr;
     double td = INFINITY;
-    for (const auto& t : s.tracks.objects) {
-      const double d = std::hypot(t.x - o->x, t.y - o->y);
-      if (d < td) td = d, tr = &t;
-    }
+    const tracked_object_t* tr = nearestTrack(s.tracks, o->x, o->y, &td);
     int on_body = 0;  // static points published on the mover's body (a ghost the map keeps)
     static_points_t statics{};
     if (s.statics && rp::decodeExact(s.statics->data(), s.statics->size(), &statics))
