@@ -348,10 +348,13 @@ void Simulator::emitGroundTruth(int64_t t_ns, SimOutputs& out) {
   const auto& movers = world_.movers();
   g.num_objects = static_cast<int32_t>(movers.size());
   g.objects.resize(movers.size());
-  // Visibility costs 35 rays per mover: computed for scenes of up to kMaxVisibilityMovers
-  // (the perception scenarios), NaN (unknown) for the dense planning benchmarks.
+  // Visibility costs 35 rays per mover: computed for every mover in scenes of up to
+  // kMaxVisibilityMovers (the perception scenarios); in denser scenes (the planning benchmarks)
+  // for the movers within kVisibilityRange of the sensor, those the robot may meet within a few
+  // seconds, and NaN (unknown) beyond.
   constexpr std::size_t kMaxVisibilityMovers = 20;
-  const bool with_visibility = movers.size() <= kMaxVisibilityMovers;
+  constexpr double kVisibilityRange = 12.0;  // [m], as far as the planner takes objects
+  const bool all_visibility = movers.size() <= kMaxVisibilityMovers;
   const Eigen::Vector3d sensor = sensorPose().translation();
   for (std::size_t i = 0; i < movers.size(); ++i) {
     sim_object_t& o = g.objects[i];
@@ -363,6 +366,8 @@ void Simulator::emitGroundTruth(int64_t t_ns, SimOutputs& out) {
     o.radius = movers[i].radius;
     o.height = movers[i].height;
     o.motion = static_cast<int8_t>(movers[i].motion);
+    const bool with_visibility =
+        all_visibility || (movers[i].position.head<2>() - sensor.head<2>()).squaredNorm() <= kVisibilityRange * kVisibilityRange;
     o.visible = with_visibility ? world::moverVisibility(world_, i, sensor)
                                 : std::numeric_limits<double>::quiet_NaN();
   }

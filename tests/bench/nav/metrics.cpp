@@ -171,6 +171,7 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
 const char* toString(HitTracking h) {
   switch (h) {
     case HitTracking::kNone: return "none";
+    case HitTracking::kHidden: return "hidden";
     case HitTracking::kUntracked: return "untracked";
     case HitTracking::kTrackedPoorly: return "tracked poorly";
     case HitTracking::kTrackedWell: return "tracked well";
@@ -181,6 +182,8 @@ const char* toString(HitTracking h) {
 HitTracking classifyHitTracking(const std::vector<HitSample>& samples) {
   if (samples.empty()) return HitTracking::kNone;
   bool any = false, all_well = true;
+  for (const auto& s : samples)
+    if (s.visible < kHiddenVisibility) return HitTracking::kHidden;  // NaN: not computed
   for (const auto& s : samples) {
     any = any || s.tracked;
     all_well = all_well && s.tracked && s.offset < 0.2 && s.velocity_error < 0.35;
@@ -198,6 +201,7 @@ HitTracking MissionAdapter::moverTracking(int64_t id) const {
     const sim_object_t* o = moverById(s.gt, id);
     if (!o) continue;
     HitSample h;
+    h.visible = o->visible;
     const tracked_object_t* tr = nearestTrack(s.tracks, o->x, o->y, &h.offset);
     h.tracked = tr != nullptr && h.offset < 1.5;
     if (h.tracked) h.velocity_error = std::hypot(tr->vx - o->vx, tr->vy - o->vy);
@@ -278,6 +282,7 @@ void Row::add(const RunResult& r) {
   wait_s += r.wait_s;
   if (r.collision) (r.hit_mover ? hit_mover : hit_static) += 1;
   if (r.collision && r.hit_mover) {
+    hit_hidden += r.hit_tracking == HitTracking::kHidden;
     hit_untracked += r.hit_tracking == HitTracking::kUntracked;
     hit_tracked_poorly += r.hit_tracking == HitTracking::kTrackedPoorly;
     hit_tracked_well += r.hit_tracking == HitTracking::kTrackedWell;

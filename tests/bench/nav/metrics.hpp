@@ -38,16 +38,18 @@ struct TrackingTally {
 };
 
 /// How perception held the mover a run collided with, over the second before the hit (0.3 s
-/// and less before it cannot change the outcome): never a track within 1.5 m, a track within
-/// 0.2 m and 0.35 m/s of the mover at every sample, or anything between (late, off, coasting
-/// away, a wrong velocity after a switch).
-enum class HitTracking { kNone, kUntracked, kTrackedPoorly, kTrackedWell };
+/// and less before it cannot change the outcome): hidden from the sensor at some sample (less
+/// than kHiddenVisibility of its silhouette in view: no perception could have held it then),
+/// else never a track within 1.5 m, a track within 0.2 m and 0.35 m/s of the mover at every
+/// sample, or anything between (late, off, coasting away, a wrong velocity after a switch).
+enum class HitTracking { kNone, kHidden, kUntracked, kTrackedPoorly, kTrackedWell };
 const char* toString(HitTracking h);
-/// One sample of the mover hit: whether a track lay within 1.5 m, its distance [m] and the
-/// size of its velocity error [m/s].
+/// One sample of the mover hit: its visibility (NaN: not computed), whether a track lay within
+/// 1.5 m, its distance [m] and the size of its velocity error [m/s].
 struct HitSample {
   bool tracked = false;
   double offset = NAN, velocity_error = NAN;
+  double visible = NAN;
 };
 /// kNone without samples.
 HitTracking classifyHitTracking(const std::vector<HitSample>& samples);
@@ -159,7 +161,7 @@ struct Row {
   std::vector<double> ttg;
   double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
   int hit_mover = 0, hit_static = 0;
-  int hit_untracked = 0, hit_tracked_poorly = 0, hit_tracked_well = 0;  ///< collisions with movers by HitTracking
+  int hit_hidden = 0, hit_untracked = 0, hit_tracked_poorly = 0, hit_tracked_well = 0;  ///< collisions with movers by HitTracking
   std::vector<double> recall, verr, vcons;  // per run
   std::vector<double> mota, idsw, fn_rate, fp_rate, motp;  // per run (CLEAR-MOT)
   std::vector<double> samples[kNumStages];

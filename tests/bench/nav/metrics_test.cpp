@@ -82,7 +82,7 @@ TEST(NavTracking, GivenTracksOnSomeMoversThenClearMotCountsMissesFalsePositivesA
   EXPECT_EQ(b.clearMot().num_frames, 0);
 }
 
-TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsUntrackedTrackedPoorlyOrTrackedWell) {
+TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsHiddenUntrackedTrackedPoorlyOrTrackedWell) {
   using ucon::bench::nav::classifyHitTracking;
   using ucon::bench::nav::HitSample;
   using ucon::bench::nav::HitTracking;
@@ -94,4 +94,14 @@ TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsUntrackedTrackedPoorlyOrTrac
   EXPECT_EQ(classifyHitTracking({none, good, good}), HitTracking::kTrackedPoorly);
   EXPECT_EQ(classifyHitTracking({good, off, good}), HitTracking::kTrackedPoorly);
   EXPECT_EQ(classifyHitTracking({good, good, fast}), HitTracking::kTrackedPoorly);
+  // A sample with the mover hidden from the sensor makes it hidden, however it was tracked;
+  // visibility not computed (NaN) and a mover in view leave the tracking classes.
+  HitSample hidden = good, seen = good;
+  hidden.visible = 0.1;
+  seen.visible = 0.9;
+  EXPECT_EQ(classifyHitTracking({good, hidden, good}), HitTracking::kHidden);
+  EXPECT_EQ(classifyHitTracking({none, none, hidden}), HitTracking::kHidden);
+  EXPECT_EQ(classifyHitTracking({seen, seen, seen}), HitTracking::kTrackedWell);
+  seen.visible = ucon::bench::nav::kHiddenVisibility;  // at the bound: in view
+  EXPECT_EQ(classifyHitTracking({seen, off}), HitTracking::kTrackedPoorly);
 }

@@ -42,6 +42,51 @@ tracked_objects_t oracleObjects(const sim_ground_truth_t& g, double range, int64
   return perception::objectsMessage(g.utime, seq, -1, std::move(objects));
 }
 
+tracked_objects_t LineOfSightOracle::objects(const sim_ground_truth_t& g, int64_t seq) {
+  std::vector<tracked_object_t> objects;
+  const auto delay_us = static_cast<int64_t>(std::llround(delay_ * 1e6));
+  for (const auto& s : g.objects) {
+    if (std::hypot(s.x - g.robot_x, s.y - g.robot_y) > range_) continue;
+    perception::ObjectEstimate e;
+    e.id = s.id;
+    e.size << 2.0 * s.radius, 2.0 * s.radius, s.height;
+    e.num_points = 10;
+    e.age_frames = 100;
+    const auto it = last_seen_.find(s.id);
+    if (s.visible >= kHiddenVisibility) {  // in view (NaN: not computed, so not in view)
+      Seen& l = last_seen_[s.id];
+      // A break in view (a ground-truth step hidden) starts the delay again, unless the mover's
+      // track is still coasting (its track takes it back at once).
+      if (it == last_seen_.end() || l.utime != prev_utime_) {
+        const bool coasting = it != last_seen_.end() && l.published && 1e-6 * double(g.utime - l.utime) <= max_coast_;
+        l.in_view_since = g.utime;
+        l.published = coasting;
+      }
+      l.utime = g.utime;
+      l.x = s.x, l.y = s.y, l.vx = s.vx, l.vy = s.vy, l.radius = s.radius, l.height = s.height;
+      l.published = l.published || g.utime - l.in_view_since >= delay_us;
+      if (!l.published) continue;
+      e.x << s.x, s.y, 0.5 * s.height, s.vx, s.vy, 0.0;
+      e.P.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
+      objects.push_back(perception::toMessage(e));
+      continue;
+    }
+    if (it == last_seen_.end() || !it->second.published) continue;
+    const Seen& l = it->second;
+    const double hidden_s = 1e-6 * static_cast<double>(g.utime - l.utime);
+    if (hidden_s > max_coast_) continue;
+    const double std_xy = 0.05 + kCoastStdPerS * hidden_s;
+    e.state = tracked_object_t::STATE_COASTING;
+    e.x << l.x + l.vx * hidden_s, l.y + l.vy * hidden_s, 0.5 * l.height, l.vx, l.vy, 0.0;
+    e.P.diagonal() << std_xy * std_xy, std_xy * std_xy, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
+    e.size << 2.0 * l.radius, 2.0 * l.radius, l.height;
+    e.frames_since_seen = static_cast<int32_t>(hidden_s * 50.0);
+    objects.push_back(perception::toMessage(e));
+  }
+  prev_utime_ = g.utime;
+  return perception::objectsMessage(g.utime, seq, -1, std::move(objects));
+}
+
 // ---- The perception probe ----
 
 std::vector<std::string> PerceptionProbe::inputChannels() const {
@@ -61,7 +106,9 @@ rp::FeedResult PerceptionProbe::feed(const std::string& channel, const uint8_t* 
   sim_ground_truth_t& g = last_gt_;
   if (!rp::decodeExact(data, size, &g)) return rp::FeedResult::kDecodeError;
   if (!oracle_.objects) return rp::FeedResult::kHandled;
-  out->push_back(rp::encodeOutput(channels::kPerceptionObjects, oracleObjects(g, range_, seq_++)));
+  out->push_back(rp::encodeOutput(channels::kPerceptionObjects, oracle_.line_of_sight
+                                                                   ? line_of_sight_.objects(g, seq_++)
+                                                                   : oracleObjects(g, range_, seq_++)));
   return rp::FeedResult::kHandled;
 }
 

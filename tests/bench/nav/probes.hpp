@@ -61,15 +61,47 @@ class TimedAdapter : public rp::NodeAdapter {
   bool on_input_;
 };
 
+/// A mover with less of its silhouette in the sensor's view than this is hidden.
+constexpr double kHiddenVisibility = 0.3;
+
 /// Which --oracle-* diagnoses a run uses.
 struct Oracle {
   bool objects = false, static_map = false, velocity = false;
+  bool line_of_sight = false;  ///< with objects: only the movers the sensor sees, the hidden ones coasted
+  double delay_s = 0.0;        ///< with line_of_sight: a mover is published once in view this long [s]
 };
 
 /// PERCEPTION_OBJECTS made from the simulator's ground truth: every mover within `range` [m] of
 /// the robot as a confirmed track with its exact position and velocity and a small fixed
 /// covariance (--oracle-objects). The one place where this benchmark builds track messages.
 tracked_objects_t oracleObjects(const sim_ground_truth_t& gt, double range, int64_t seq);
+
+/// What a tracker that is perfect on what the sensor sees would publish (--oracle-objects
+/// --oracle-line-of-sight): every mover within `range` [m] of the robot that has had at least
+/// kHiddenVisibility of its silhouette in view for `delay` [s] (0: at once), with its exact
+/// state, as a confirmed track; a mover so published and hidden since, for at most `max_coast`
+/// [s], as a coasting track at its last seen position carried on with its last seen velocity,
+/// its position std growing by kCoastStdPerS per second hidden (a walker may turn). A mover not
+/// yet so long in view is not published (--oracle-delay: how soon perception must hold a mover
+/// that comes into view).
+class LineOfSightOracle {
+ public:
+  static constexpr double kCoastStdPerS = 0.5;  // [m/s]
+  LineOfSightOracle(double range, double max_coast, double delay)
+      : range_(range), max_coast_(max_coast), delay_(delay) {}
+  tracked_objects_t objects(const sim_ground_truth_t& gt, int64_t seq);
+
+ private:
+  struct Seen {
+    int64_t utime = 0;          ///< last time in view
+    int64_t in_view_since = 0;  ///< since when in view without a break
+    bool published = false;     ///< in view for `delay` since in_view_since (a track exists)
+    double x = 0, y = 0, vx = 0, vy = 0, radius = 0, height = 0;
+  };
+  double range_, max_coast_, delay_;
+  std::map<int64_t, Seen> last_seen_;  ///< by mover id
+  int64_t prev_utime_ = 0;             ///< the previous ground-truth step
+};
 
 /// Diagnosis: wraps (timed) perception. Always counts PERCEPTION_STATIC points that lie on a
 /// mover's body (the leak). --oracle-objects drops its PERCEPTION_OBJECTS and publishes
@@ -80,8 +112,8 @@ tracked_objects_t oracleObjects(const sim_ground_truth_t& gt, double range, int6
 /// never pollute.
 class PerceptionProbe : public rp::NodeAdapter {
  public:
-  PerceptionProbe(rp::NodeAdapter* inner, double range, const Oracle& oracle)
-      : inner_(inner), range_(range), oracle_(oracle) {}
+  PerceptionProbe(rp::NodeAdapter* inner, double range, const Oracle& oracle, double max_coast)
+      : inner_(inner), range_(range), oracle_(oracle), line_of_sight_(range, max_coast, oracle.delay_s) {}
   std::string name() const override { return inner_->name(); }
   std::vector<std::string> inputChannels() const override;
   std::vector<std::string> outputChannels() const override { return inner_->outputChannels(); }
@@ -105,6 +137,7 @@ class PerceptionProbe : public rp::NodeAdapter {
   int64_t leaked_points_ = 0, static_points_ = 0;
   sim_ground_truth_t last_gt_;
   int64_t seq_ = 0;
+  LineOfSightOracle line_of_sight_;
 };
 
 }  // namespace ucon::bench::nav

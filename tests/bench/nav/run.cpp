@@ -54,7 +54,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     rp::NodeAdapter* node = timed.back().get();
     if (n.stage == 1) {
       // Outside the timing: the probe's own work is not perception's latency.
-      auto w = std::make_unique<PerceptionProbe>(node, 12.0, oracle);
+      auto w = std::make_unique<PerceptionProbe>(node, 12.0, oracle, setup.perception_max_coast);
       perception_probe = w.get();
       node = w.get();
       owned.push_back(std::move(w));

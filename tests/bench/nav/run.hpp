@@ -26,6 +26,7 @@ struct Setup {
   std::string config_dir, scenario_dir;
   std::string pose = "ground_truth";  ///< --pose: ground_truth | odometry (odometry_in_loop.hpp)
   FaultSpec faults;                   ///< --faults (faults.hpp); none by default
+  double perception_max_coast = 1.5;  ///< perception.yaml tracks.max_coast: the line-of-sight oracle's coasting [s]
 };
 
 /// How the nodes share the machine: pipelined (perception and planner on threads of their
