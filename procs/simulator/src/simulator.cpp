@@ -366,8 +366,8 @@ void Simulator::emitGroundTruth(int64_t t_ns, SimOutputs& out) {
     o.radius = movers[i].radius;
     o.height = movers[i].height;
     o.motion = static_cast<int8_t>(movers[i].motion);
-    const bool with_visibility =
-        all_visibility || (movers[i].position.head<2>() - sensor.head<2>()).squaredNorm() <= kVisibilityRange * kVisibilityRange;
+    const double range2 = (movers[i].position.head<2>() - sensor.head<2>()).squaredNorm();
+    const bool with_visibility = all_visibility || range2 <= kVisibilityRange * kVisibilityRange;
     o.visible = with_visibility ? world::moverVisibility(world_, i, sensor)
                                 : std::numeric_limits<double>::quiet_NaN();
   }
