@@ -108,8 +108,32 @@ void MissionAdapter::onGroundTruth(const sim_ground_truth_t& m) {
   collided_ = collided_ || m.collision || m.num_collisions > 0;
 }
 
+void AcquisitionTally::step(int64_t utime, int64_t id, bool near_in_view, bool tracked) {
+  Mover& m = movers_[id];
+  if (near_in_view && !m.was_in && !tracked) {
+    m.open = true;
+    m.since = utime;
+  } else if (near_in_view && m.open && tracked) {
+    delays_.push_back(1e-6 * static_cast<double>(utime - m.since));
+    m.open = false;
+  } else if (!near_in_view && m.open) {
+    ++missed_;
+    m.open = false;
+  }
+  m.was_in = near_in_view;
+}
+
 void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
   for (const auto& o : m.objects) {
+    const double range = std::hypot(o.x - m.robot_x, o.y - m.robot_y);
+    if (range <= AcquisitionTally::kRange + AcquisitionTally::kTrackDistance) {
+      double td = INFINITY;
+      nearestTrack(last_objects_, o.x, o.y, &td);
+      tracking_.acquisition.step(m.utime, o.id, range <= AcquisitionTally::kRange && o.visible >= kHiddenVisibility,
+                                 td < AcquisitionTally::kTrackDistance);
+    } else {
+      tracking_.acquisition.step(m.utime, o.id, false, false);
+    }
     if (o.visible <= 0.3 || std::hypot(o.x - m.robot_x, o.y - m.robot_y) > 10.0) continue;  // NaN: not computed
     ++tracking_.recall_total;
     const tracked_object_t* near = nullptr;
@@ -288,6 +312,8 @@ void Row::add(const RunResult& r) {
     hit_tracked_well += r.hit_tracking == HitTracking::kTrackedWell;
   }
   if (std::isfinite(r.recall)) recall.push_back(r.recall);
+  acquire_s.insert(acquire_s.end(), r.acquire_s.begin(), r.acquire_s.end());
+  acquire_missed += r.acquire_missed;
   if (std::isfinite(r.velocity_error)) verr.push_back(r.velocity_error);
   if (std::isfinite(r.velocity_error_over_std)) vcons.push_back(r.velocity_error_over_std);
   if (r.mot.num_objects > 0) {

@@ -26,12 +26,40 @@ namespace ucon::bench::nav {
 extern const char* const kStages[];  ///< "driver", "perception", "planner", "controller"
 constexpr int kNumStages = 4;
 
+/// How soon perception holds a mover that comes into view near the robot. An arrival starts at
+/// the first ground-truth step at which a mover is within kRange of the robot and in view
+/// (kHiddenVisibility) after a step at which it was not (hidden, farther away, or not yet seen),
+/// with no track within kTrackDistance of it; it ends when such a track appears (its delay is
+/// recorded) or, missed, when the mover leaves view or range first. A mover a track already holds
+/// as it comes into view (a coasting track taking it back) is no arrival; one still open when
+/// the run ends is not counted.
+class AcquisitionTally {
+ public:
+  static constexpr double kRange = 6.0;          // [m]
+  static constexpr double kTrackDistance = 0.5;  // [m]
+  /// One ground-truth step of one mover: whether it is within kRange and in view, and whether a
+  /// track lies within kTrackDistance of it.
+  void step(int64_t utime, int64_t id, bool near_in_view, bool tracked);
+  const std::vector<double>& delays() const { return delays_; }  ///< of the arrivals tracked [s]
+  int64_t missed() const { return missed_; }
+
+ private:
+  struct Mover {
+    bool was_in = false, open = false;
+    int64_t since = 0;
+  };
+  std::map<int64_t, Mover> movers_;
+  std::vector<double> delays_;
+  int64_t missed_ = 0;
+};
+
 /// The tracking quality near the robot, summed over a run's ground-truth steps.
 struct TrackingTally {
   int64_t recall_total = 0, recall_hit = 0;  ///< visible movers within 10 m; those with a track within 0.7 m
   double verr_sum = 0.0;                     ///< Σ |v_track - v_mover| of the tracked movers within 5 m [m/s]
   int64_t verr_n = 0;
   double verr2_sum = 0.0, vvar_sum = 0.0;    ///< Σ |v error|^2 and Σ the trace of the stated velocity covariance
+  AcquisitionTally acquisition;               ///< movers coming into view within 6 m
   double recall() const { return recall_total ? double(recall_hit) / double(recall_total) : NAN; }
   double velocityError() const { return verr_n ? verr_sum / double(verr_n) : NAN; }
   double velocityErrorOverStd() const { return vvar_sum > 0.0 ? std::sqrt(verr2_sum / vvar_sum) : NAN; }
@@ -141,6 +169,8 @@ struct RunResult {
   double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
   double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
   double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
+  std::vector<double> acquire_s;  ///< AcquisitionTally::delays() [s]
+  int64_t acquire_missed = 0;     ///< AcquisitionTally::missed()
   mot::ClearMotSummary mot;  ///< MissionAdapter::clearMot()
   StageTimes stages[kNumStages];
   /// Faults injected (--faults): deliveries lost, late, lost to a killed node (inputs and outputs
@@ -163,6 +193,8 @@ struct Row {
   int hit_mover = 0, hit_static = 0;
   int hit_hidden = 0, hit_untracked = 0, hit_tracked_poorly = 0, hit_tracked_well = 0;  ///< collisions with movers by HitTracking
   std::vector<double> recall, verr, vcons;  // per run
+  std::vector<double> acquire_s;            // every run's acquisition delays, pooled [s]
+  int64_t acquire_missed = 0;               // arrivals that left view or range untracked
   std::vector<double> mota, idsw, fn_rate, fp_rate, motp;  // per run (CLEAR-MOT)
   std::vector<double> samples[kNumStages];
   double stage_total_ms[kNumStages] = {0, 0, 0, 0};

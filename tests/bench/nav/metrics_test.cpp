@@ -105,3 +105,30 @@ TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsHiddenUntrackedTrackedPoorly
   seen.visible = ucon::bench::nav::kHiddenVisibility;  // at the bound: in view
   EXPECT_EQ(classifyHitTracking({seen, off}), HitTracking::kTrackedPoorly);
 }
+
+TEST(NavAcquisition, GivenMoversComingIntoViewThenTheDelayToTheirFirstTrackIsRecordedOrTheMiss) {
+  ucon::bench::nav::AcquisitionTally a;
+  // Mover 1 comes into view untracked at 1.0 s and is tracked at 1.3 s: one delay of 0.3 s.
+  a.step(900000, 1, false, false);
+  a.step(1000000, 1, true, false);
+  a.step(1100000, 1, true, false);
+  a.step(1300000, 1, true, true);
+  a.step(1400000, 1, true, false);  // losing the track later is not a new arrival
+  // Mover 2 comes into view, then hides again untracked: a miss.
+  a.step(1000000, 2, true, false);
+  a.step(1200000, 2, false, false);
+  // Mover 3 comes into view already held (a coasting track): no arrival.
+  a.step(1000000, 3, true, true);
+  a.step(1100000, 3, true, true);
+  // Mover 4 comes into view, hides, comes back and is tracked: one miss, then one delay.
+  a.step(1000000, 4, true, false);
+  a.step(1100000, 4, false, false);
+  a.step(2000000, 4, true, false);
+  a.step(2100000, 4, true, true);
+  // Mover 5 still open at the end: not counted.
+  a.step(3000000, 5, true, false);
+  ASSERT_EQ(a.delays().size(), 2u);
+  EXPECT_NEAR(a.delays()[0], 0.3, 1e-12);
+  EXPECT_NEAR(a.delays()[1], 0.1, 1e-12);
+  EXPECT_EQ(a.missed(), 2);
+}

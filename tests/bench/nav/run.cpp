@@ -145,6 +145,8 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   }
   res.wall_s = msSince(t0) * 1e-3;
   res.recall = mission.tracking().recall();
+  res.acquire_s = mission.tracking().acquisition.delays();
+  res.acquire_missed = mission.tracking().acquisition.missed();
   res.mot = mission.clearMot();
   res.velocity_error = mission.tracking().velocityError();
   res.velocity_error_over_std = mission.tracking().velocityErrorOverStd();
