@@ -134,7 +134,7 @@ void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
     } else {
       tracking_.acquisition.step(m.utime, o.id, false, false);
     }
-    if (o.visible <= 0.3 || std::hypot(o.x - m.robot_x, o.y - m.robot_y) > 10.0) continue;  // NaN: not computed
+    if (o.visible < kHiddenVisibility || range > 10.0) continue;  // NaN: not computed, counted
     ++tracking_.recall_total;
     const tracked_object_t* near = nullptr;
     double nd = 0.7;
@@ -145,7 +145,7 @@ void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
     if (near) {
       ++tracking_.recall_hit;
       // Velocity error of the tracks of movers within 5 m: what the planner predicts with.
-      if (std::hypot(o.x - m.robot_x, o.y - m.robot_y) < 5.0) {
+      if (range < 5.0) {
         tracking_.verr_sum += std::hypot(near->vx - o.vx, near->vy - o.vy);
         ++tracking_.verr_n;
         if (near->cov.size() == 36) {  // the velocity block's trace is E|v_err|^2 if the track is right

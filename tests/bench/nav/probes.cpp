@@ -26,18 +26,27 @@ rp::FeedResult TimedAdapter::feed(const std::string& channel, const uint8_t* dat
 
 // ---- Ground-truth movers as perception's track messages (--oracle-objects) ----
 
+namespace {
+/// A confirmed track, measured at object level, at the mover's exact state with a small fixed
+/// covariance (0.05 m, 0.1 m/s).
+perception::ObjectEstimate exactEstimate(int64_t id, double x, double y, double vx, double vy, double radius,
+                                         double height) {
+  perception::ObjectEstimate e;
+  e.id = id;
+  e.x << x, y, 0.5 * height, vx, vy, 0.0;
+  e.P.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
+  e.size << 2.0 * radius, 2.0 * radius, height;
+  e.num_points = 10;
+  e.age_frames = 100;
+  return e;
+}
+}  // namespace
+
 tracked_objects_t oracleObjects(const sim_ground_truth_t& g, double range, int64_t seq) {
   std::vector<tracked_object_t> objects;
   for (const auto& s : g.objects) {
     if (std::hypot(s.x - g.robot_x, s.y - g.robot_y) > range) continue;
-    perception::ObjectEstimate e;  // confirmed, measured at object level
-    e.id = s.id;
-    e.x << s.x, s.y, 0.5 * s.height, s.vx, s.vy, 0.0;
-    e.P.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
-    e.size << 2.0 * s.radius, 2.0 * s.radius, s.height;
-    e.num_points = 10;
-    e.age_frames = 100;
-    objects.push_back(perception::toMessage(e));
+    objects.push_back(perception::toMessage(exactEstimate(s.id, s.x, s.y, s.vx, s.vy, s.radius, s.height)));
   }
   return perception::objectsMessage(g.utime, seq, -1, std::move(objects));
 }
@@ -47,11 +56,6 @@ tracked_objects_t LineOfSightOracle::objects(const sim_ground_truth_t& g, int64_
   const auto delay_us = static_cast<int64_t>(std::llround(delay_ * 1e6));
   for (const auto& s : g.objects) {
     if (std::hypot(s.x - g.robot_x, s.y - g.robot_y) > range_) continue;
-    perception::ObjectEstimate e;
-    e.id = s.id;
-    e.size << 2.0 * s.radius, 2.0 * s.radius, s.height;
-    e.num_points = 10;
-    e.age_frames = 100;
     const auto it = last_seen_.find(s.id);
     if (s.visible >= kHiddenVisibility) {  // in view (NaN: not computed, so not in view)
       Seen& l = last_seen_[s.id];
@@ -66,9 +70,7 @@ tracked_objects_t LineOfSightOracle::objects(const sim_ground_truth_t& g, int64_
       l.x = s.x, l.y = s.y, l.vx = s.vx, l.vy = s.vy, l.radius = s.radius, l.height = s.height;
       l.published = l.published || g.utime - l.in_view_since >= delay_us;
       if (!l.published) continue;
-      e.x << s.x, s.y, 0.5 * s.height, s.vx, s.vy, 0.0;
-      e.P.diagonal() << 0.05 * 0.05, 0.05 * 0.05, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
-      objects.push_back(perception::toMessage(e));
+      objects.push_back(perception::toMessage(exactEstimate(s.id, s.x, s.y, s.vx, s.vy, s.radius, s.height)));
       continue;
     }
     if (it == last_seen_.end() || !it->second.published) continue;
@@ -76,10 +78,10 @@ tracked_objects_t LineOfSightOracle::objects(const sim_ground_truth_t& g, int64_
     const double hidden_s = 1e-6 * static_cast<double>(g.utime - l.utime);
     if (hidden_s > max_coast_) continue;
     const double std_xy = 0.05 + kCoastStdPerS * hidden_s;
+    perception::ObjectEstimate e =
+        exactEstimate(s.id, l.x + l.vx * hidden_s, l.y + l.vy * hidden_s, l.vx, l.vy, l.radius, l.height);
     e.state = tracked_object_t::STATE_COASTING;
-    e.x << l.x + l.vx * hidden_s, l.y + l.vy * hidden_s, 0.5 * l.height, l.vx, l.vy, 0.0;
-    e.P.diagonal() << std_xy * std_xy, std_xy * std_xy, 0.05 * 0.05, 0.1 * 0.1, 0.1 * 0.1, 0.1 * 0.1;
-    e.size << 2.0 * l.radius, 2.0 * l.radius, l.height;
+    e.P(0, 0) = e.P(1, 1) = std_xy * std_xy;
     e.frames_since_seen = static_cast<int32_t>(hidden_s * 50.0);
     objects.push_back(perception::toMessage(e));
   }
