@@ -380,10 +380,9 @@ int main(int argc, char** argv) {
   std::printf("acquisition (movers coming into view within 6 m with no track within 0.5 m, all runs): arrivals / "
               "tracked within 0.25 s [%%] / median delay of those tracked [s] / left view or range untracked [%%]:");
   for (const auto& r : rows) {
-    const double n = static_cast<double>(r.acquire_s.size() + static_cast<std::size_t>(r.acquire_missed));
-    const auto fast = std::count_if(r.acquire_s.begin(), r.acquire_s.end(), [](double d) { return d <= 0.25; });
+    const auto n = static_cast<double>(r.acquireArrivals());
     std::printf("  %sN_d=%d: %.0f / %.1f / %.2f / %.1f", several ? (r.model + " ").c_str() : "", r.n_dynamic, n,
-                n > 0 ? 100.0 * static_cast<double>(fast) / n : NAN, percentile(r.acquire_s, 0.5),
+                n > 0 ? 100.0 * static_cast<double>(r.acquiredWithin(0.25)) / n : NAN, percentile(r.acquire_s, 0.5),
                 n > 0 ? 100.0 * static_cast<double>(r.acquire_missed) / n : NAN);
   }
   std::printf("\n");
@@ -554,11 +553,8 @@ int main(int argc, char** argv) {
          << ", \"pipelined\": " << (pipeline.serial ? "false" : "true")
          << ", \"tracking_recall\": " << num(percentile(r.recall, 0.5))
          << ", \"velocity_error_mps\": " << num(percentile(r.verr, 0.5))
-         << ", \"acquisition\": {\"arrivals\": " << r.acquire_s.size() + static_cast<std::size_t>(r.acquire_missed)
-         << ", \"tracked\": " << r.acquire_s.size()
-         << ", \"tracked_within_0_25_s\": "
-         << std::count_if(r.acquire_s.begin(), r.acquire_s.end(), [](double d) { return d <= 0.25; })
-         << ", \"median_delay_s\": " << num(percentile(r.acquire_s, 0.5)) << "}"
+         << ", \"acquisition\": {\"arrivals\": " << r.acquireArrivals() << ", \"tracked\": " << r.acquire_s.size()
+         << ", \"tracked_within_0_25_s\": " << r.acquiredWithin(0.25) << ", \"median_delay_s\": " << num(percentile(r.acquire_s, 0.5)) << "}"
          << ", \"velocity_error_over_std\": " << num(percentile(r.vcons, 0.5))
          << ", \"mota\": " << num(percentile(r.mota, 0.5)) << ", \"idsw\": " << num(percentile(r.idsw, 0.5))
          << ", \"fn_rate\": " << num(percentile(r.fn_rate, 0.5)) << ", \"fp_rate\": " << num(percentile(r.fp_rate, 0.5))

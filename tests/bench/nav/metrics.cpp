@@ -1,5 +1,6 @@
 #include "metrics.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "ucon/channels.hpp"
@@ -292,6 +293,10 @@ std::string planTally(const std::vector<std::pair<std::string, int64_t>>& planne
     if (it != kShown.end() && n > 0) tally += (tally.empty() ? " fallbacks " : " ") + it->second + "=" + std::to_string(n);
   }
   return tally;
+}
+
+int64_t Row::acquiredWithin(double s) const {
+  return std::count_if(acquire_s.begin(), acquire_s.end(), [s](double d) { return d <= s; });
 }
 
 void Row::add(const RunResult& r) {

@@ -195,6 +195,9 @@ struct Row {
   std::vector<double> recall, verr, vcons;  // per run
   std::vector<double> acquire_s;            // every run's acquisition delays, pooled [s]
   int64_t acquire_missed = 0;               // arrivals that left view or range untracked
+  /// Arrivals (AcquisitionTally) of all runs, and those tracked within `s` seconds.
+  int64_t acquireArrivals() const { return static_cast<int64_t>(acquire_s.size()) + acquire_missed; }
+  int64_t acquiredWithin(double s) const;
   std::vector<double> mota, idsw, fn_rate, fp_rate, motp;  // per run (CLEAR-MOT)
   std::vector<double> samples[kNumStages];
   double stage_total_ms[kNumStages] = {0, 0, 0, 0};

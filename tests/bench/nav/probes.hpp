@@ -73,7 +73,8 @@ struct Oracle {
 
 /// PERCEPTION_OBJECTS made from the simulator's ground truth: every mover within `range` [m] of
 /// the robot as a confirmed track with its exact position and velocity and a small fixed
-/// covariance (--oracle-objects). The one place where this benchmark builds track messages.
+/// covariance (--oracle-objects). This and LineOfSightOracle are where this benchmark builds
+/// track messages (one exact estimate for both).
 tracked_objects_t oracleObjects(const sim_ground_truth_t& gt, double range, int64_t seq);
 
 /// What a tracker that is perfect on what the sensor sees would publish (--oracle-objects
