@@ -91,7 +91,7 @@ struct ReassociationParams {
   bool enabled = true;       ///< off = object-level association only (ablation)
   int max_history_points = 64;  ///< history points kept per track (evenly thinned), >= 1
   double max_shift = 0.4;    ///< recovered points must be centred this close to the prediction [m] (not the occluder in front)
-  int max_consecutive = 25;  ///< frames in a row a track may live on re-association alone, >= 1
+  int max_consecutive = 75;  ///< frames in a row a track may live on re-association alone, >= 1
   void read(ConfigReader& r);
 };
 
