@@ -127,22 +127,14 @@ void AcquisitionTally::step(int64_t utime, int64_t id, bool near_in_view, bool t
 void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
   for (const auto& o : m.objects) {
     const double range = std::hypot(o.x - m.robot_x, o.y - m.robot_y);
-    if (range <= AcquisitionTally::kRange + AcquisitionTally::kTrackDistance) {
-      double td = INFINITY;
-      nearestTrack(last_objects_, o.x, o.y, &td);
-      tracking_.acquisition.step(m.utime, o.id, range <= AcquisitionTally::kRange && o.visible >= kHiddenVisibility,
-                                 td < AcquisitionTally::kTrackDistance);
-    } else {
-      tracking_.acquisition.step(m.utime, o.id, false, false);
-    }
+    // The nearest track, looked up once for both tallies (acquisition within 6 m, recall 10 m).
+    double td = INFINITY;
+    const tracked_object_t* nearest = range <= 10.0 ? nearestTrack(last_objects_, o.x, o.y, &td) : nullptr;
+    tracking_.acquisition.step(m.utime, o.id, range <= AcquisitionTally::kRange && o.visible >= kHiddenVisibility,
+                               td < AcquisitionTally::kTrackDistance);
     if (o.visible < kHiddenVisibility || range > 10.0) continue;  // NaN: not computed, counted
     ++tracking_.recall_total;
-    const tracked_object_t* near = nullptr;
-    double nd = 0.7;
-    for (const auto& t : last_objects_.objects) {
-      const double d = std::hypot(t.x - o.x, t.y - o.y);
-      if (d < nd) nd = d, near = &t;
-    }
+    const tracked_object_t* near = td < 0.7 ? nearest : nullptr;
     if (near) {
       ++tracking_.recall_hit;
       // Velocity error of the tracks of movers within 5 m: what the planner predicts with.
