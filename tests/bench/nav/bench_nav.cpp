@@ -12,12 +12,15 @@
 // {"results": [{"n_dynamic", "runs", "success_rate", "collisions", "time_to_goal_s",
 //               "realtime_factor", "tracking_recall", "velocity_error_mps", "velocity_error_over_std",
 //               "acquisition": {"arrivals", "tracked", "tracked_within_0_25_s", "median_delay_s"},
+//               "young_tracks": {"samples", "velocity_rms_error_mps", "velocity_error_over_std"},
 //               "mota", "idsw", "fn_rate", "fp_rate", "motp",
 //               "latency_ms": {"driver", "perception", "planner", "controller"}}]}
 // (tracking_recall: median over runs of the share of visible movers within 10 m with a track
 // within 0.7 m; velocity_error_mps: median over runs of the mean |v_track - v_mover| of those
 // within 5 m of the robot; velocity_error_over_std: median over runs of the rms of that error over
-// the rms of the standard deviation the track states for it, 1 for a consistent covariance).
+// the rms of the standard deviation the track states for it, 1 for a consistent covariance;
+// young_tracks: the same pooled over every run's samples of tracks at most 15 frames old, whose
+// velocities the planner predicts with when a mover has just come into view).
 //
 // --planner-model sector,no_uncertainty,fapp runs every seed once per obstacle model (the
 // methods of Table II in the whole stack) and compares each with the first on the same seeds
@@ -377,6 +380,12 @@ int main(int argc, char** argv) {
                 percentile(r.recall, 0.5), percentile(r.verr, 0.5),
                 percentile(r.vcons, 0.5));
   std::printf("\n");
+  std::printf("young tracks (at most %d frames old) of movers within 5 m, all runs: samples / rms velocity error [m/s] / "
+              "that over the rms std they state (1: consistent):", TrackingTally::kYoungFrames);
+  for (const auto& r : rows)
+    std::printf("  %sN_d=%d: %lld / %.2f / %.2f", several ? (r.model + " ").c_str() : "", r.n_dynamic,
+                static_cast<long long>(r.young_n), r.youngRmsError(), r.youngErrorOverStd());
+  std::printf("\n");
   std::printf("acquisition (movers coming into view within 6 m with no track within 0.5 m, all runs): arrivals / "
               "tracked within 0.25 s [%%] / median delay of those tracked [s] / left view or range untracked [%%]:");
   for (const auto& r : rows) {
@@ -556,6 +565,8 @@ int main(int argc, char** argv) {
          << ", \"acquisition\": {\"arrivals\": " << r.acquireArrivals() << ", \"tracked\": " << r.acquire_s.size()
          << ", \"tracked_within_0_25_s\": " << r.acquiredWithin(0.25) << ", \"median_delay_s\": " << num(percentile(r.acquire_s, 0.5)) << "}"
          << ", \"velocity_error_over_std\": " << num(percentile(r.vcons, 0.5))
+         << ", \"young_tracks\": {\"samples\": " << r.young_n << ", \"velocity_rms_error_mps\": " << num(r.youngRmsError())
+         << ", \"velocity_error_over_std\": " << num(r.youngErrorOverStd()) << "}"
          << ", \"mota\": " << num(percentile(r.mota, 0.5)) << ", \"idsw\": " << num(percentile(r.idsw, 0.5))
          << ", \"fn_rate\": " << num(percentile(r.fn_rate, 0.5)) << ", \"fp_rate\": " << num(percentile(r.fp_rate, 0.5))
          << ", \"motp\": " << num(percentile(r.motp, 0.5)) << ", \"latency_ms\": {";

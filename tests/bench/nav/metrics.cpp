@@ -142,8 +142,15 @@ void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
         tracking_.verr_sum += std::hypot(near->vx - o.vx, near->vy - o.vy);
         ++tracking_.verr_n;
         if (near->cov.size() == 36) {  // the velocity block's trace is E|v_err|^2 if the track is right
-          tracking_.verr2_sum += (near->vx - o.vx) * (near->vx - o.vx) + (near->vy - o.vy) * (near->vy - o.vy);
-          tracking_.vvar_sum += near->cov[3 * 6 + 3] + near->cov[4 * 6 + 4];
+          const double e2 = (near->vx - o.vx) * (near->vx - o.vx) + (near->vy - o.vy) * (near->vy - o.vy);
+          const double var = near->cov[3 * 6 + 3] + near->cov[4 * 6 + 4];
+          tracking_.verr2_sum += e2;
+          tracking_.vvar_sum += var;
+          if (near->age_frames <= TrackingTally::kYoungFrames) {
+            tracking_.young_verr2_sum += e2;
+            tracking_.young_vvar_sum += var;
+            ++tracking_.young_n;
+          }
         }
       }
     }
@@ -313,6 +320,9 @@ void Row::add(const RunResult& r) {
   acquire_missed += r.acquire_missed;
   if (std::isfinite(r.velocity_error)) verr.push_back(r.velocity_error);
   if (std::isfinite(r.velocity_error_over_std)) vcons.push_back(r.velocity_error_over_std);
+  young_verr2_sum += r.young_verr2_sum;
+  young_vvar_sum += r.young_vvar_sum;
+  young_n += r.young_n;
   if (r.mot.num_objects > 0) {
     mota.push_back(r.mot.mota);
     idsw.push_back(static_cast<double>(r.mot.num_switches));

@@ -82,6 +82,46 @@ TEST(NavTracking, GivenTracksOnSomeMoversThenClearMotCountsMissesFalsePositivesA
   EXPECT_EQ(b.clearMot().num_frames, 0);
 }
 
+// The velocity tallies of tracked movers within 5 m: every track in the overall sums, those at
+// most kYoungFrames frames old also in the young tracks' sums.
+TEST(NavTracking, GivenAYoungAndAnOldTrackThenTheYoungTracksVelocityFiguresAreTalliedApart) {
+  MissionAdapter a(ucon::mission::MissionParams{}, {Eigen::Vector2d(30.0, 0.0)}, 60.0);
+  constexpr int kYoung = ucon::bench::nav::TrackingTally::kYoungFrames;
+  for (int f = 0; f < 10; ++f) {
+    const int64_t t = 1'000'000 + f * 20'000;
+    auto g = groundTruth(t, {{1, 3.0}, {2, 4.0}, {3, 8.0}});
+    for (auto& o : g.objects) o.vx = 1.0;
+    auto m = tracks(t, {{7, 3.0}, {8, 4.0}, {9, 8.0}});
+    for (auto& o : m.objects) {
+      o.cov_size = 36;
+      o.cov.assign(36, 0.0);
+      for (int i = 0; i < 6; ++i) o.cov[static_cast<std::size_t>(7 * i)] = 0.125;  // velocity trace 0.25
+    }
+    m.objects[0].age_frames = kYoung;  // young, standing: error 1 m/s
+    m.objects[1].age_frames = kYoung + 1;  // old, exact
+    m.objects[1].vx = 1.0;
+    m.objects[2].age_frames = 1;  // young but 8 m away: not tallied
+    feed(a, ucon::channels::kPerceptionObjects, encode(m));
+    feed(a, ucon::channels::kSimGroundTruth, encode(g));
+  }
+  const auto& tt = a.tracking();
+  EXPECT_EQ(tt.young_n, 10);
+  EXPECT_NEAR(tt.young_verr2_sum, 10.0, 1e-9);
+  EXPECT_NEAR(tt.young_vvar_sum, 2.5, 1e-9);
+  EXPECT_EQ(tt.verr_n, 20);
+  EXPECT_NEAR(tt.verr2_sum, 10.0, 1e-9);
+  ucon::bench::nav::Row row;
+  ucon::bench::nav::RunResult r;
+  r.young_verr2_sum = tt.young_verr2_sum;
+  r.young_vvar_sum = tt.young_vvar_sum;
+  r.young_n = tt.young_n;
+  row.add(r);
+  row.add(r);
+  EXPECT_EQ(row.young_n, 20);
+  EXPECT_NEAR(row.youngRmsError(), 1.0, 1e-9);
+  EXPECT_NEAR(row.youngErrorOverStd(), 2.0, 1e-9);  // 1 m/s against a stated 0.5 m/s
+}
+
 TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsHiddenUntrackedTrackedPoorlyOrTrackedWell) {
   using ucon::bench::nav::classifyHitTracking;
   using ucon::bench::nav::HitSample;
