@@ -384,7 +384,7 @@ int main(int argc, char** argv) {
               "that over the rms std they state (1: consistent):", TrackingTally::kYoungFrames);
   for (const auto& r : rows)
     std::printf("  %sN_d=%d: %lld / %.2f / %.2f", several ? (r.model + " ").c_str() : "", r.n_dynamic,
-                static_cast<long long>(r.young_n), r.youngRmsError(), r.youngErrorOverStd());
+                static_cast<long long>(r.young.n), r.young.rmsError(), r.young.errorOverStd());
   std::printf("\n");
   std::printf("acquisition (movers coming into view within 6 m with no track within 0.5 m, all runs): arrivals / "
               "tracked within 0.25 s [%%] / median delay of those tracked [s] / left view or range untracked [%%]:");
@@ -565,8 +565,8 @@ int main(int argc, char** argv) {
          << ", \"acquisition\": {\"arrivals\": " << r.acquireArrivals() << ", \"tracked\": " << r.acquire_s.size()
          << ", \"tracked_within_0_25_s\": " << r.acquiredWithin(0.25) << ", \"median_delay_s\": " << num(percentile(r.acquire_s, 0.5)) << "}"
          << ", \"velocity_error_over_std\": " << num(percentile(r.vcons, 0.5))
-         << ", \"young_tracks\": {\"samples\": " << r.young_n << ", \"velocity_rms_error_mps\": " << num(r.youngRmsError())
-         << ", \"velocity_error_over_std\": " << num(r.youngErrorOverStd()) << "}"
+         << ", \"young_tracks\": {\"samples\": " << r.young.n << ", \"velocity_rms_error_mps\": " << num(r.young.rmsError())
+         << ", \"velocity_error_over_std\": " << num(r.young.errorOverStd()) << "}"
          << ", \"mota\": " << num(percentile(r.mota, 0.5)) << ", \"idsw\": " << num(percentile(r.idsw, 0.5))
          << ", \"fn_rate\": " << num(percentile(r.fn_rate, 0.5)) << ", \"fp_rate\": " << num(percentile(r.fp_rate, 0.5))
          << ", \"motp\": " << num(percentile(r.motp, 0.5)) << ", \"latency_ms\": {";

@@ -146,11 +146,7 @@ void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
           const double var = near->cov[3 * 6 + 3] + near->cov[4 * 6 + 4];
           tracking_.verr2_sum += e2;
           tracking_.vvar_sum += var;
-          if (near->age_frames <= TrackingTally::kYoungFrames) {
-            tracking_.young_verr2_sum += e2;
-            tracking_.young_vvar_sum += var;
-            ++tracking_.young_n;
-          }
+          if (near->age_frames <= TrackingTally::kYoungFrames) tracking_.young.add(e2, var);
         }
       }
     }
@@ -320,9 +316,7 @@ void Row::add(const RunResult& r) {
   acquire_missed += r.acquire_missed;
   if (std::isfinite(r.velocity_error)) verr.push_back(r.velocity_error);
   if (std::isfinite(r.velocity_error_over_std)) vcons.push_back(r.velocity_error_over_std);
-  young_verr2_sum += r.young_verr2_sum;
-  young_vvar_sum += r.young_vvar_sum;
-  young_n += r.young_n;
+  young.merge(r.young);
   if (r.mot.num_objects > 0) {
     mota.push_back(r.mot.mota);
     idsw.push_back(static_cast<double>(r.mot.num_switches));

@@ -53,16 +53,26 @@ class AcquisitionTally {
   int64_t missed_ = 0;
 };
 
+/// Velocity errors against the std the tracks state, summed: n samples, Σ |v error|^2 and Σ the
+/// trace of the stated velocity covariance (pooled over runs with merge()).
+struct VelocitySums {
+  double err2_sum = 0.0, var_sum = 0.0;
+  int64_t n = 0;
+  void add(double err2, double var) { err2_sum += err2, var_sum += var, ++n; }
+  void merge(const VelocitySums& o) { err2_sum += o.err2_sum, var_sum += o.var_sum, n += o.n; }
+  double rmsError() const { return n ? std::sqrt(err2_sum / double(n)) : NAN; }
+  double errorOverStd() const { return var_sum > 0.0 ? std::sqrt(err2_sum / var_sum) : NAN; }
+};
+
 /// The tracking quality near the robot, summed over a run's ground-truth steps.
 struct TrackingTally {
   int64_t recall_total = 0, recall_hit = 0;  ///< visible movers within 10 m; those with a track within 0.7 m
   double verr_sum = 0.0;                     ///< Σ |v_track - v_mover| of the tracked movers within 5 m [m/s]
   int64_t verr_n = 0;
   double verr2_sum = 0.0, vvar_sum = 0.0;    ///< Σ |v error|^2 and Σ the trace of the stated velocity covariance
-  /// The same two sums, and their count, over the tracks at most kYoungFrames frames old (0.3 s
-  /// at 50 Hz): a track's first velocities, when a mover just came into view near the robot.
-  double young_verr2_sum = 0.0, young_vvar_sum = 0.0;
-  int64_t young_n = 0;
+  /// The same over the tracks at most kYoungFrames frames old (0.3 s at 50 Hz): a track's first
+  /// velocities, when a mover just came into view near the robot.
+  VelocitySums young;
   static constexpr int kYoungFrames = 15;
   AcquisitionTally acquisition;               ///< movers coming into view within 6 m
   double recall() const { return recall_total ? double(recall_hit) / double(recall_total) : NAN; }
@@ -174,8 +184,7 @@ struct RunResult {
   double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
   double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
   double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
-  double young_verr2_sum = 0.0, young_vvar_sum = 0.0;  ///< TrackingTally's sums over young tracks
-  int64_t young_n = 0;
+  VelocitySums young;  ///< TrackingTally::young
   std::vector<double> acquire_s;  ///< AcquisitionTally::delays() [s]
   int64_t acquire_missed = 0;     ///< AcquisitionTally::missed()
   mot::ClearMotSummary mot;  ///< MissionAdapter::clearMot()
@@ -200,10 +209,7 @@ struct Row {
   int hit_mover = 0, hit_static = 0;
   int hit_hidden = 0, hit_untracked = 0, hit_tracked_poorly = 0, hit_tracked_well = 0;  ///< collisions with movers by HitTracking
   std::vector<double> recall, verr, vcons;  // per run
-  double young_verr2_sum = 0.0, young_vvar_sum = 0.0;  // every run's young tracks, pooled
-  int64_t young_n = 0;
-  double youngRmsError() const { return young_n ? std::sqrt(young_verr2_sum / double(young_n)) : NAN; }
-  double youngErrorOverStd() const { return young_vvar_sum > 0.0 ? std::sqrt(young_verr2_sum / young_vvar_sum) : NAN; }
+  VelocitySums young;                       // every run's young tracks, pooled
   std::vector<double> acquire_s;            // every run's acquisition delays, pooled [s]
   int64_t acquire_missed = 0;               // arrivals that left view or range untracked
   /// Arrivals (AcquisitionTally) of all runs, and those tracked within `s` seconds.

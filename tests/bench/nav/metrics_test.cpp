@@ -105,21 +105,19 @@ TEST(NavTracking, GivenAYoungAndAnOldTrackThenTheYoungTracksVelocityFiguresAreTa
     feed(a, ucon::channels::kSimGroundTruth, encode(g));
   }
   const auto& tt = a.tracking();
-  EXPECT_EQ(tt.young_n, 10);
-  EXPECT_NEAR(tt.young_verr2_sum, 10.0, 1e-9);
-  EXPECT_NEAR(tt.young_vvar_sum, 2.5, 1e-9);
+  EXPECT_EQ(tt.young.n, 10);
+  EXPECT_NEAR(tt.young.err2_sum, 10.0, 1e-9);
+  EXPECT_NEAR(tt.young.var_sum, 2.5, 1e-9);
   EXPECT_EQ(tt.verr_n, 20);
   EXPECT_NEAR(tt.verr2_sum, 10.0, 1e-9);
   ucon::bench::nav::Row row;
   ucon::bench::nav::RunResult r;
-  r.young_verr2_sum = tt.young_verr2_sum;
-  r.young_vvar_sum = tt.young_vvar_sum;
-  r.young_n = tt.young_n;
+  r.young = tt.young;
   row.add(r);
   row.add(r);
-  EXPECT_EQ(row.young_n, 20);
-  EXPECT_NEAR(row.youngRmsError(), 1.0, 1e-9);
-  EXPECT_NEAR(row.youngErrorOverStd(), 2.0, 1e-9);  // 1 m/s against a stated 0.5 m/s
+  EXPECT_EQ(row.young.n, 20);
+  EXPECT_NEAR(row.young.rmsError(), 1.0, 1e-9);
+  EXPECT_NEAR(row.young.errorOverStd(), 2.0, 1e-9);  // 1 m/s against a stated 0.5 m/s
 }
 
 TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsHiddenUntrackedTrackedPoorlyOrTrackedWell) {

@@ -150,9 +150,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   res.mot = mission.clearMot();
   res.velocity_error = mission.tracking().velocityError();
   res.velocity_error_over_std = mission.tracking().velocityErrorOverStd();
-  res.young_verr2_sum = mission.tracking().young_verr2_sum;
-  res.young_vvar_sum = mission.tracking().young_vvar_sum;
-  res.young_n = mission.tracking().young_n;
+  res.young = mission.tracking().young;
   if (perception_probe) {
     res.leaked_static = perception_probe->leakedPoints();
     res.static_points = perception_probe->staticPoints();
