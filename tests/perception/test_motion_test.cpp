@@ -21,20 +21,8 @@ Eigen::Vector3f along(float r, float deg = 0.5f) {
   return kOrigin + r * Eigen::Vector3f(std::cos(a) * std::cos(a), std::sin(a) * std::cos(a), std::sin(a));
 }
 
-// One second of parked frames (50 Hz) whose returns are `returns`, then a frame 1.2 s in with
-// the single point `p`: what the test found for it.
-MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p) {
-  const SegmentationParams params;
-  const AngularGrid grid(params.free_space_bin_deg);
-  MotionTest test(params, grid);
-  for (int64_t t = 1'000'000; t <= 2'000'000; t += 20'000) {
-    Frame f;
-    f.utime = t;
-    f.sensor_origin = kOrigin;
-    f.returns = returns;
-    f.points = returns;
-    test.push(f, std::vector<char>(f.points.size(), 0));
-  }
+// What `test` finds for a frame at 2.2 s holding the single point `p`.
+MotionEvidence evidenceAt(MotionTest& test, const AngularGrid& grid, const Eigen::Vector3f& p) {
   Frame now;
   now.utime = 2'200'000;
   now.sensor_origin = kOrigin;
@@ -49,6 +37,23 @@ MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p) 
   EXPECT_EQ(n, e.moved);
   EXPECT_EQ(e.near_reference + e.moved + e.surface + e.undecided, 1);
   return e;
+}
+
+// One second of parked frames (50 Hz) whose returns are `returns`, then a frame 1.2 s in with
+// the single point `p`: what the test found for it.
+MotionEvidence evidenceAgainst(const Points& returns, const Eigen::Vector3f& p) {
+  const SegmentationParams params;
+  const AngularGrid grid(params.free_space_bin_deg);
+  MotionTest test(params, grid);
+  for (int64_t t = 1'000'000; t <= 2'000'000; t += 20'000) {
+    Frame f;
+    f.utime = t;
+    f.sensor_origin = kOrigin;
+    f.returns = returns;
+    f.points = returns;
+    test.push(f, std::vector<char>(f.points.size(), 0));
+  }
+  return evidenceAt(test, grid, p);
 }
 
 // Whether the test marks the point moved.
@@ -101,4 +106,48 @@ TEST(MotionTest, GivenEachKindOfEvidenceThenThePointIsCountedUnderIt) {
   EXPECT_EQ(evidenceAgainst({along(3.0f)}, along(5.0f)).undecided, 1);
   // A bin holding rays past it and an edge well in front: no evidence either way.
   EXPECT_EQ(evidenceAgainst({along(8.0f), along(3.0f, 0.8f)}, along(5.0f)).undecided, 1);
+}
+
+namespace {
+
+// Frames at 50 Hz: until 1 s a wall 8 m away across +-6 degrees (when `seen_before`), then
+// until 2 s something standing 3 m away in front of it (every ray stops there); at 2.2 s the
+// single point `p`. The reference (0.5-1.0 s old) holds only the second part.
+MotionEvidence evidenceBehindAStander(bool seen_before, const Eigen::Vector3f& p) {
+  const SegmentationParams params;
+  const AngularGrid grid(params.free_space_bin_deg);
+  MotionTest test(params, grid);
+  const auto fan = [](float r) {
+    Points out;
+    for (float a = -6.0f; a <= 6.0f; a += 0.25f) {  // level rays
+      const float az = a * static_cast<float>(M_PI) / 180.0f;
+      out.push_back(kOrigin + r * Eigen::Vector3f(std::cos(az), std::sin(az), 0.0f));
+    }
+    return out;
+  };
+  for (int64_t t = 0; t <= 2'000'000; t += 20'000) {
+    if (t < 1'000'000 && !seen_before) continue;
+    Frame f;
+    f.utime = t;
+    f.sensor_origin = kOrigin;
+    f.returns = fan(t < 1'000'000 ? 8.0f : 3.0f);
+    f.points = f.returns;
+    test.push(f, std::vector<char>(f.points.size(), 0));
+  }
+  return evidenceAt(test, grid, p);
+}
+
+}  // namespace
+
+TEST(MotionTest, GivenAPlaceHiddenThroughTheWholeWindowButSeenThroughLowBeforeThenItMoved) {
+  // A crowd: someone stood in front of the place through the whole reference window, so the
+  // reference cannot judge a point there; but the sensor saw through the place at leg height
+  // 1.2 s before (segmentation.free_memory): what stands there now arrived.
+  const Eigen::Vector3f p = along(5.0f, 0.0f);
+  const MotionEvidence seen = evidenceBehindAStander(true, p);
+  EXPECT_EQ(seen.moved, 1);
+  EXPECT_EQ(seen.remembered, 1);
+  const MotionEvidence unseen = evidenceBehindAStander(false, p);
+  EXPECT_EQ(unseen.undecided, 1);
+  EXPECT_EQ(unseen.remembered, 0);
 }

@@ -41,6 +41,8 @@ std::string shippedText() {
   X(segmentation.motion_distance_per_m) X(segmentation.motion_ratio)                               \
   X(segmentation.free_space_bin_deg) X(segmentation.free_space_margin)                             \
   X(segmentation.track_support_distance) X(segmentation.vanish_max_gap)                            \
+  X(segmentation.free_memory) X(segmentation.free_memory_heights) X(segmentation.free_memory_cell)  \
+  X(segmentation.free_memory_range)                                                                \
   X(segmentation.history_static_only) X(segmentation.split_max_size)                               \
   X(segmentation.view_center_shift) X(segmentation.occlusion_anchor)                               \
   X(segmentation.occlusion_margin) X(segmentation.static_persistence)                              \
@@ -106,14 +108,27 @@ TEST(PerceptionParams, GivenTheShippedConfigThenTheDefaultsTestCoversEachOfItsKe
   for (const auto& k : compared) EXPECT_TRUE(in_file.count(k)) << k << ": not in " << kShipped;
 }
 
-TEST(PerceptionParams, GivenABadValueThenLoadingFailsNamingItsKey) {
+namespace {
+// The keys the loader names when `from` in the shipped file is replaced by `to`.
+std::vector<std::string> errorKeysWith(const std::string& from, const std::string& to) {
   std::string text = shippedText();
-  const std::string from = "  gamma: 0.35";
   const auto at = text.find(from);
-  ASSERT_NE(at, std::string::npos);
-  text.replace(at, from.size(), "  gamma: 1.5");
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at == std::string::npos) return {};
+  text.replace(at, from.size(), to);
   std::vector<ucon::ConfigError> errors;
   EXPECT_FALSE(ucon::loadParams<PerceptionParams>(text, kShipped, &errors).has_value());
-  ASSERT_EQ(errors.size(), 1u);
-  EXPECT_EQ(errors[0].key, "paper.gamma");
+  std::vector<std::string> keys;
+  for (const auto& e : errors) keys.push_back(e.key);
+  return keys;
+}
+}  // namespace
+
+TEST(PerceptionParams, GivenABadValueThenLoadingFailsNamingItsKey) {
+  EXPECT_EQ(errorKeysWith("  gamma: 0.35", "  gamma: 1.5"), std::vector<std::string>{"paper.gamma"});
+}
+
+TEST(PerceptionParams, GivenTheFreeMemoryBandUpsideDownThenLoadingFailsNamingItsKey) {
+  EXPECT_EQ(errorKeysWith("free_memory_heights: [0.2, 0.6]", "free_memory_heights: [0.6, 0.2]"),
+            std::vector<std::string>{"segmentation.free_memory_heights"});
 }

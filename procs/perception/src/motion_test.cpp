@@ -8,9 +8,22 @@ namespace perception {
 
 namespace {
 double seconds(int64_t dt_us) { return static_cast<double>(dt_us) * 1e-6; }
+
+FreeSpaceMemory::Params memoryParams(const SegmentationParams& s) {
+  FreeSpaceMemory::Params m;
+  m.horizon = s.free_memory;
+  m.cell = s.free_memory_cell;
+  m.min_height = s.free_memory_heights.at(0);
+  m.max_height = s.free_memory_heights.at(1);
+  m.range = s.free_memory_range;
+  m.margin = s.free_space_margin;
+  m.period = s.history_chunk;
+  return m;
+}
 }  // namespace
 
-MotionTest::MotionTest(const SegmentationParams& params, const AngularGrid& grid) : params_(params), grid_(grid) {}
+MotionTest::MotionTest(const SegmentationParams& params, const AngularGrid& grid)
+    : params_(params), grid_(grid), memory_(memoryParams(params)) {}
 
 void MotionTest::selectReference(int64_t utime) {
   const SegmentationParams& s = params_;
@@ -46,7 +59,11 @@ int MotionTest::markMoved(const Frame& frame, const std::vector<int>& indices, c
       ++ev.near_reference;
       continue;
     }
-    const Verdict v = pointMoved(frame, frame.points[i]);
+    Verdict v = pointMoved(frame, frame.points[i]);
+    if (v == Verdict::kUndecided && memory_.seenFree(frame.points[i], frame.utime)) {
+      v = Verdict::kMoved;
+      ++ev.remembered;
+    }
     const bool m = v == Verdict::kMoved;
     ++(m ? ev.moved : v == Verdict::kSurface ? ev.surface : ev.undecided);
     n += m ? 1 : 0;
@@ -152,6 +169,7 @@ void MotionTest::push(const Frame& frame, const std::vector<char>& tracked_point
     c.min_range[bin] = std::min(c.min_range[bin], r);
   }
   c.last_utime = utime;
+  memory_.mark(frame);
   // Reference points: what this frame did not give to a track. Someone walking where a tracked
   // person was (a follower, or the person itself turning back) would otherwise be matched
   // against that trail and look static. The free-space evidence above still includes it, so

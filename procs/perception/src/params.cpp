@@ -41,6 +41,10 @@ void SegmentationParams::read(ConfigReader& r) {
   r.read("free_space_margin", free_space_margin, 0.0, 10.0);
   r.read("track_support_distance", track_support_distance, 0.0, 10.0);
   r.read("vanish_max_gap", vanish_max_gap, 0.0, 5.0);
+  r.read("free_memory", free_memory, 0.0, 30.0);
+  r.read("free_memory_heights", free_memory_heights, 2, 0.0, 3.0);
+  r.read("free_memory_cell", free_memory_cell, 0.02, 2.0);
+  r.read("free_memory_range", free_memory_range, 0.0, 50.0);
   r.read("split_max_size", split_max_size, 0.0, 50.0);
   r.read("history_static_only", history_static_only);
   r.read("view_center_shift", view_center_shift, 0.0, 2.0);
@@ -54,6 +58,8 @@ void SegmentationParams::read(ConfigReader& r) {
   if (history_max_age - history_min_age < history_chunk)
     r.fail("history_max_age", "the motion-test window must be at least one history_chunk long");
   if (history_max_age <= history_min_age) r.fail("history_max_age", "must be greater than history_min_age");
+  if (free_memory_heights.size() == 2 && !(free_memory_heights[1] > free_memory_heights[0]))
+    r.fail("free_memory_heights", "the second height must be greater than the first");
 }
 
 void AssociationParams::read(ConfigReader& r) {

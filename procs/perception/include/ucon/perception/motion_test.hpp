@@ -8,6 +8,8 @@
 /// only asks whether any reference point lies near, see ProximityIndex). Each chunk also keeps
 /// the farthest and the nearest return per direction seen from its sensor origin: the space at
 /// a point was free where a return of its bin lay beyond it and none clearly in front of it.
+/// A point the reference cannot judge (another mover stood in front of it through the whole
+/// window) is asked of a longer memory of where the sensor saw through (free_space_memory.hpp).
 
 #include <cstdint>
 #include <deque>
@@ -16,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "ucon/perception/angular_grid.hpp"
+#include "ucon/perception/free_space_memory.hpp"
 #include "ucon/perception/params.hpp"
 #include "ucon/perception/preprocess.hpp"
 #include "ucon/perception/proximity_index.hpp"
@@ -31,6 +34,8 @@ struct MotionEvidence {
   int surface = 0;         ///< new surface where the reference saw a surface at its range (or around it)
   int undecided = 0;       ///< new surface the reference could not judge: every return in its
                            ///< direction lay well in front of it (an occluder), or the bin was mixed
+  int remembered = 0;      ///< new surface the reference could not judge and the free-space memory
+                           ///< saw free a moment before: motion (counted in `moved` too)
 };
 
 class MotionTest {
@@ -53,9 +58,10 @@ class MotionTest {
   int markMoved(const Frame& frame, const std::vector<int>& indices, const Eigen::Vector2d& center,
                 std::vector<char>* moved, MotionEvidence* evidence = nullptr) const;
 
-  /// Adds a processed frame to the history: its returns as free-space evidence, and as
-  /// reference points those it did not give to tracks (`tracked_point`, per frame point) when
-  /// history_static_only. Forgets the reference chosen for this frame.
+  /// Adds a processed frame to the history: its returns as free-space evidence (of the
+  /// reference and of the longer memory), and as reference points those it did not give to
+  /// tracks (`tracked_point`, per frame point) when history_static_only. Forgets the reference
+  /// chosen for this frame.
   void push(const Frame& frame, const std::vector<char>& tracked_point);
 
  private:
@@ -75,6 +81,7 @@ class MotionTest {
 
   SegmentationParams params_;
   AngularGrid grid_;
+  FreeSpaceMemory memory_;
   std::deque<HistoryChunk> history_;
   std::vector<const HistoryChunk*> ref_chunks_;  ///< the reference of the current frame
 };

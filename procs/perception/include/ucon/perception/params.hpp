@@ -53,6 +53,10 @@ struct SegmentationParams {
   double free_space_margin = 0.3;   ///< a moved point also needs the reference to have seen this far past it along its ray, and nothing this much nearer in its bin [m]
   double track_support_distance = 0.8;  ///< a cluster this close to a live track's prediction is dynamic [m]
   double vanish_max_gap = 0.5;      ///< a new point at most this far behind a reference surface that has since gone moved (an object moving away) [m]; 0 = off
+  double free_memory = 3.0;         ///< a point the reference could not judge moved when its cell and the eight around it were seen through low (free_memory_heights) within this [s]; 0 = off
+  std::vector<double> free_memory_heights{0.2, 0.6};  ///< the band above the floor a ray must cross a cell in [m], 0 <= lo < hi
+  double free_memory_cell = 0.2;    ///< x-y cell of that memory [m], > 0
+  double free_memory_range = 8.0;   ///< rays are followed this far from the sensor (x-y) [m]
   bool history_static_only = true;  ///< the motion test's reference history leaves out points the frame gave to tracks (someone walking in a tracked person's footsteps, or a mover retracing its path, is not matched against that trail)
   double split_max_size = 4.0;      ///< a cluster too large for an object but at most this large [m] gives its moved points as objects of their own (a mover brushing a pillar); 0 = off
   double view_center_shift = 0.3;   ///< an object seen from one side has its centre moved away from the sensor by up to this (footprint.hpp) [m]; 0 = off
