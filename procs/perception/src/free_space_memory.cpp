@@ -41,12 +41,6 @@ void FreeSpaceMemory::reset() {
   last_utime_ = INT64_MIN;
 }
 
-void FreeSpaceMemory::locate(int64_t ix, int64_t iy, int64_t* key, std::size_t* slot) const {
-  // Shifted as unsigned: left-shifting a negative signed value is undefined in C++17.
-  *key = static_cast<int64_t>((static_cast<uint64_t>(ix) << 32) ^ (static_cast<uint64_t>(iy) & 0xffffffffULL));
-  *slot = static_cast<std::size_t>(((iy & mask_) * side_) + (ix & mask_));
-}
-
 namespace {
 /// Cell index of a coordinate; false for a non-finite or absurdly far one.
 bool cellOf(float v, float inv_cell, int64_t* i) {
@@ -55,19 +49,37 @@ bool cellOf(float v, float inv_cell, int64_t* i) {
   *i = static_cast<int64_t>(f);
   return true;
 }
+
+/// Packed key of cell (ix, iy). Shifted as unsigned: left-shifting a negative signed value is
+/// undefined in C++17.
+int64_t keyOf(int64_t ix, int64_t iy) {
+  return static_cast<int64_t>((static_cast<uint64_t>(ix) << 32) ^ (static_cast<uint64_t>(iy) & 0xffffffffULL));
+}
 }  // namespace
 
-void FreeSpaceMemory::markCell(float x, float y, int64_t utime) {
-  int64_t ix = 0, iy = 0, key = 0;
-  std::size_t s = 0;
-  if (!cellOf(x, inv_cell_, &ix) || !cellOf(y, inv_cell_, &iy)) return;
-  locate(ix, iy, &key, &s);
-  Slot& slot = slots_[s];
+const FreeSpaceMemory::Slot* FreeSpaceMemory::find(int64_t ix, int64_t iy) const {
+  const Slot& slot = slots_[static_cast<std::size_t>(((iy & mask_) * side_) + (ix & mask_))];
+  return slot.key == keyOf(ix, iy) ? &slot : nullptr;
+}
+
+FreeSpaceMemory::Slot* FreeSpaceMemory::claim(float x, float y) {
+  int64_t ix = 0, iy = 0;
+  if (!cellOf(x, inv_cell_, &ix) || !cellOf(y, inv_cell_, &iy)) return nullptr;
+  Slot& slot = slots_[static_cast<std::size_t>(((iy & mask_) * side_) + (ix & mask_))];
+  const int64_t key = keyOf(ix, iy);
   if (slot.key != key) slot = Slot{key, INT64_MIN, INT64_MIN};
-  // A cell that held a return within the horizon is not seen free: a ray passing beside a
-  // surface crosses the surface's cell, and a sparse scan does not sample every surface cell
-  // in every frame.
-  if (slot.hit_utime == INT64_MIN || utime - slot.hit_utime > horizon_us_) slot.free_utime = utime;
+  return &slot;
+}
+
+void FreeSpaceMemory::walk(const Eigen::Vector3f& o, const Eigen::Vector2f& u, float from, float to, int64_t utime) {
+  const float step = static_cast<float>(0.5 * params_.cell);
+  for (float s = from; s <= to; s += step) {
+    Slot* slot = claim(o.x() + u.x() * s, o.y() + u.y() * s);
+    // A cell that held a return within the horizon is not seen free: a ray passing beside a
+    // surface crosses the surface's cell, and a sparse scan does not sample every surface
+    // cell in every frame.
+    if (slot && (slot->hit_utime == INT64_MIN || utime - slot->hit_utime > horizon_us_)) slot->free_utime = utime;
+  }
 }
 
 void FreeSpaceMemory::mark(const Frame& frame) {
@@ -78,15 +90,8 @@ void FreeSpaceMemory::mark(const Frame& frame) {
   if (last_utime_ != INT64_MIN && t - last_utime_ < period_us_) return;
   last_utime_ = t;
   // The cells holding a return of this frame first: rays crossing them passed beside it.
-  for (const auto& p : frame.points) {
-    int64_t ix = 0, iy = 0, key = 0;
-    std::size_t s = 0;
-    if (!cellOf(p.x(), inv_cell_, &ix) || !cellOf(p.y(), inv_cell_, &iy)) continue;
-    locate(ix, iy, &key, &s);
-    Slot& slot = slots_[s];
-    if (slot.key != key) slot = Slot{key, INT64_MIN, INT64_MIN};
-    slot.hit_utime = t;
-  }
+  for (const auto& p : frame.points)
+    if (Slot* slot = claim(p.x(), p.y())) slot->hit_utime = t;
   // Each return's ray is free in the band from the sensor out to where it leaves the band, or
   // to `margin` before its return, or to `range`. Rays of one narrow azimuth bin are nearly
   // collinear: the bin is followed once, along its centre, as far as its farthest such extent
@@ -96,7 +101,6 @@ void FreeSpaceMemory::mark(const Frame& frame) {
   const float lo = static_cast<float>(params_.min_height), hi = static_cast<float>(params_.max_height);
   const float h0 = o.z() - floor_z;
   const float range = static_cast<float>(params_.range), margin = static_cast<float>(params_.margin);
-  const float step = static_cast<float>(0.5 * params_.cell);
   extent_.assign(kAzimuthBins, 0.0f);
   for (const auto& q : frame.returns) {
     const Eigen::Vector2f d = q.head<2>() - o.head<2>();
@@ -119,8 +123,7 @@ void FreeSpaceMemory::mark(const Frame& frame) {
     if (a > 0.0f) {
       // A sensor mounted above (or below) the band: the stretch starts away from the sensor,
       // and stretches of one bin need not overlap; this ray is followed on its own.
-      const Eigen::Vector2f u = d / D;
-      for (float s = a; s <= b; s += step) markCell(o.x() + u.x() * s, o.y() + u.y() * s, t);
+      walk(o, d / D, a, b, t);
       continue;
     }
     const double az = fastAtan2(static_cast<double>(d.y()), static_cast<double>(d.x())) + M_PI;
@@ -130,8 +133,7 @@ void FreeSpaceMemory::mark(const Frame& frame) {
   for (std::size_t k = 0; k < kAzimuthBins; ++k) {
     if (!(extent_[k] > 0.0f)) continue;
     const double az = (static_cast<double>(k) + 0.5) * (2.0 * M_PI / kAzimuthBins) - M_PI;
-    const Eigen::Vector2f u(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az)));
-    for (float s = 0.0f; s <= extent_[k]; s += step) markCell(o.x() + u.x() * s, o.y() + u.y() * s, t);
+    walk(o, Eigen::Vector2f(static_cast<float>(std::cos(az)), static_cast<float>(std::sin(az))), 0.0f, extent_[k], t);
   }
 }
 
@@ -141,12 +143,8 @@ bool FreeSpaceMemory::seenFree(const Eigen::Vector3f& p, int64_t now) const {
   if (!cellOf(p.x(), inv_cell_, &ix) || !cellOf(p.y(), inv_cell_, &iy)) return false;
   for (int64_t dy = -1; dy <= 1; ++dy) {
     for (int64_t dx = -1; dx <= 1; ++dx) {
-      int64_t key = 0;
-      std::size_t s = 0;
-      locate(ix + dx, iy + dy, &key, &s);
-      const Slot& slot = slots_[s];
-      if (slot.key != key || slot.free_utime == INT64_MIN || slot.free_utime >= now ||
-          now - slot.free_utime > horizon_us_)
+      const Slot* slot = find(ix + dx, iy + dy);
+      if (!slot || slot->free_utime == INT64_MIN || slot->free_utime >= now || now - slot->free_utime > horizon_us_)
         return false;
     }
   }

@@ -73,8 +73,13 @@ class FreeSpaceMemory {
     int64_t free_utime = INT64_MIN;   ///< last frame that saw through the cell
     int64_t hit_utime = INT64_MIN;    ///< last frame with a return in the cell
   };
-  void locate(int64_t ix, int64_t iy, int64_t* key, std::size_t* slot) const;
-  void markCell(float x, float y, int64_t utime);
+  /// The slot of cell (ix, iy), or null when it holds another cell (or none).
+  const Slot* find(int64_t ix, int64_t iy) const;
+  /// The slot of the cell holding (x, y), emptied first when it held another cell; null for a
+  /// non-finite or absurdly far point.
+  Slot* claim(float x, float y);
+  /// Marks the cells along o + s u, s in [from, to] [m], seen free at `utime`, every half cell.
+  void walk(const Eigen::Vector3f& o, const Eigen::Vector2f& u, float from, float to, int64_t utime);
 
   static constexpr std::size_t kAzimuthBins = 1440;  ///< 0.25 deg: 3.5 cm wide at 8 m
 
