@@ -182,7 +182,9 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
                    st.max_yaw_rate, 100 * st.moving_share, static_cast<long long>(st.goals_reached),
                    static_cast<long long>(st.collisions), st.pose_error_max, static_cast<unsigned long long>(st.digest),
                    rec_s);
-      const auto scores = b::scoreRecording(*rec, o.methods, params, o.score);
+      b::ScoreOptions score = o.score;
+      score.trace_label = scene + ":" + std::to_string(seed);
+      const auto scores = b::scoreRecording(*rec, o.methods, params, score);
       for (const auto& sc_m : scores) {
         std::vector<std::pair<int64_t, int>> top;
         for (const auto& [i, k] : sc_m.fp_per_static) top.emplace_back(-k, i);
@@ -488,7 +490,10 @@ int main(int argc, char** argv) {
   app.add_option("--min-visible-points", min_visible,
                  "a ground-truth object with fewer LiDAR returns in a frame is not scored")
       ->check(CLI::Range(1, 1000));
-  app.add_option("--trace", trace_path, "write every FP, FN, identity switch and velocity error above 0.5 m/s to this text file");
+  app.add_option("--trace", trace_path,
+                 "write every FP, FN, identity switch and velocity error above 0.5 m/s to this text file (with --drive: "
+                 "one line each, led by scene:seed and the method; misses of visible movers with their cause, "
+                 "visibility-aware false positives)");
   bool drive = false;
   std::string save_logs;
   app.add_flag("--drive", drive,
@@ -513,7 +518,15 @@ int main(int argc, char** argv) {
                  "perception method use it)")
       ->check(CLI::IsMember({"ground_truth", "odometry"}));
   CLI11_PARSE(app, argc, argv);
-  FILE* trace = trace_path.empty() ? nullptr : std::fopen(trace_path.c_str(), "w");
+  std::unique_ptr<FILE, int (*)(FILE*)> trace_file(nullptr, &std::fclose);
+  if (!trace_path.empty()) {
+    trace_file.reset(std::fopen(trace_path.c_str(), "w"));
+    if (!trace_file) {
+      std::fprintf(stderr, "bench-perception: cannot write %s\n", trace_path.c_str());
+      return 2;
+    }
+  }
+  FILE* trace = trace_file.get();
   if (quick) {
     seeds = 1;
     if (duration <= 0.0) duration = drive ? 8.0 : 20.0;
@@ -548,7 +561,7 @@ int main(int argc, char** argv) {
     o.score.threshold_m = threshold;
     o.score.max_range_m = perc_params.preprocess.max_range;
     o.score.min_visible_points = min_visible;
-    if (!trace_path.empty()) std::fprintf(stderr, "bench-perception: --trace is not supported with --drive (ignored)\n");
+    o.score.trace = trace;
     return runDrive(o, sim_params, drv_params, perc_params);
   }
 

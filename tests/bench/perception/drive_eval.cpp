@@ -511,8 +511,26 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
           sh.held += objs.utime - last->second <= r.coast_us;
         }
       }
-      r.all.updateXY(gt_now, hyps, eval.threshold_m);
+      const auto fa = r.all.updateXY(gt_now, hyps, eval.threshold_m);
       const auto fe = r.visible.updateXY(gt_now, hyps, eval.threshold_m, &hidden);
+      const double t_s = 1e-6 * static_cast<double>(objs.utime);
+      const auto rangeOf = [&](int64_t gid, double* x, double* y) -> double {
+        for (const auto& q : gt_now)
+          if (q.id == gid) {
+            *x = q.x, *y = q.y;
+            return std::hypot(q.x - g->robot_x, q.y - g->robot_y);
+          }
+        return NAN;
+      };
+      if (options.trace) {
+        for (const auto& [gid, tid] : fa.switches) {
+          double x = NAN, y = NAN;
+          const double range = rangeOf(gid, &x, &y);
+          std::fprintf(options.trace, "%s %s idsw %.2f gt %lld -> track %lld at %.2f %.2f range %.2f\n",
+                       options.trace_label.c_str(), r.score.method.c_str(), t_s, static_cast<long long>(gid),
+                       static_cast<long long>(tid), x, y, range);
+        }
+      }
       const auto rp = poses.at(objs.utime);
       if (rp) {
         const int sb = speedBin(std::hypot(rp->vx, rp->vy)), yb = yawBin(std::abs(rp->wz));
@@ -525,7 +543,12 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
             if (q.id == gid) {
               const MissCause c = classifyMiss(Eigen::Vector2d(q.x, q.y), r.node_view->lastDetections(), objs,
                                                eval.threshold_m);
-              ++r.score.miss_causes[c][missRangeBand(std::hypot(q.x - g->robot_x, q.y - g->robot_y))];
+              const double range = std::hypot(q.x - g->robot_x, q.y - g->robot_y);
+              ++r.score.miss_causes[c][missRangeBand(range)];
+              if (options.trace)
+                std::fprintf(options.trace, "%s %s fn %.2f gt %lld at %.2f %.2f range %.2f %s\n",
+                             options.trace_label.c_str(), r.score.method.c_str(), t_s, static_cast<long long>(gid),
+                             q.x, q.y, range, missCauseName(c));
             }
       }
       for (int64_t fid : fe.false_positives) {
@@ -541,6 +564,11 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
         }
         bool near_mover = false;
         for (const auto& q : g->objects) near_mover = near_mover || std::hypot(q.x - t->x, q.y - t->y) < 1.5;
+        if (options.trace)
+          std::fprintf(options.trace, "%s %s fp %.2f track %lld at %.2f %.2f v %.2f age %d state %d %s\n",
+                       options.trace_label.c_str(), r.score.method.c_str(), t_s, static_cast<long long>(t->id), t->x,
+                       t->y, std::hypot(t->vx, t->vy), t->age_frames, static_cast<int>(t->state),
+                       nearest >= 0 ? "on_static" : near_mover ? "near_mover" : "elsewhere");
         if (nearest >= 0) {
           ++r.score.fp_on_static;
           ++r.score.fp_per_static[nearest];
@@ -559,8 +587,17 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
         for (const auto& q : g->objects)
           if (q.id == gid) go = &q;
         if (go == nullptr || std::hypot(go->x - g->robot_x, go->y - g->robot_y) > options.velocity_range_m) continue;
-        for (const auto& t : objs.objects)
-          if (t.id == tid) r.verr.push_back(std::hypot(t.vx - go->vx, t.vy - go->vy));
+        for (const auto& t : objs.objects) {
+          if (t.id != tid) continue;
+          const double e = std::hypot(t.vx - go->vx, t.vy - go->vy);
+          r.verr.push_back(e);
+          if (options.trace && e > 0.5)
+            std::fprintf(options.trace,
+                         "%s %s dv %.2f gt %lld track %lld err %.2f v %.2f %.2f true %.2f %.2f age %d assoc %d\n",
+                         options.trace_label.c_str(), r.score.method.c_str(), t_s, static_cast<long long>(gid),
+                         static_cast<long long>(tid), e, t.vx, t.vy, go->vx, go->vy, t.age_frames,
+                         static_cast<int>(t.last_association));
+        }
       }
     }
   };

@@ -22,6 +22,7 @@
 /// every other figure: the same scene, seed and configs give the same numbers on every run.
 
 #include <cstdint>
+#include <cstdio>
 #include <deque>
 #include <map>
 #include <memory>
@@ -148,6 +149,9 @@ struct ScoreOptions {
   int min_visible_points = 3;      ///< visibility-aware: fewer returns = not visible
   double velocity_range_m = 8.0;   ///< velocity error of matches within this of the robot [m]
   double static_fp_distance = 0.5; ///< a false positive this near a static footprint is on it [m]
+  std::FILE* trace = nullptr;      ///< if set: one line per identity switch, visible miss (with its cause),
+                                   ///< visibility-aware false positive and velocity error above 0.5 m/s
+  std::string trace_label;         ///< first word of each trace line (scene and seed)
 };
 
 /// Why a visible mover was missed in a scored frame, judged from the node's own clusters and

@@ -6,6 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "ucon/channels.hpp"
 #include "ucon/runtime/config_file.hpp"
@@ -222,6 +226,37 @@ TEST(DriveScoring, GivenAMoverTheSensorNeverSeesWhenScoredThenItIsAMissOnlyWitho
   int64_t well = 0;
   for (int f = 0; f < 10; ++f) well += 6 * std::min(f + 1, merged) >= ucon::bench::kWellSeenPoints;
   EXPECT_EQ(v[0].sensor.well_seen, well);
+}
+
+// --trace with --drive: each visible miss is a line led by the label and the method, with the
+// mover, its range and the cause the summary counts; nothing is written without a trace file.
+TEST(DriveScoring, GivenATraceFileWhenScoredThenEachVisibleMissIsALineWithItsCause) {
+  ucon::bench::Recording rec;
+  for (int f = 0; f < 10; ++f) {
+    const int64_t t = 1'000'000 + f * 20'000;
+    std::vector<P> pts;
+    for (int k = 0; k < 6; ++k) pts.push_back({4.78f, -0.1f + 0.04f * k, 0.4f + 0.2f * k});
+    rec.events.push_back(event(ucon::channels::kRobotPose, pose(t, 0, 0, 0)));
+    rec.events.push_back(event(ucon::channels::kSimGroundTruth, groundTruth(t, {mover(3, 5.0, 0.0)})));
+    rec.events.push_back(event(ucon::channels::kLidarPoints, cloud(t, f, pts)));
+  }
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  ucon::bench::ScoreOptions opt;
+  std::unique_ptr<FILE, int (*)(FILE*)> file(std::tmpfile(), &std::fclose);
+  ASSERT_TRUE(file);
+  opt.trace = file.get();
+  opt.trace_label = "scene:7";
+  const auto s = ucon::bench::scoreRecording(rec, {"ucon"}, {shipped}, opt);
+  ASSERT_EQ(s[0].visible.num_misses, 10);
+  std::rewind(file.get());
+  std::vector<std::string> lines;
+  char buf[512];
+  while (std::fgets(buf, sizeof(buf), file.get())) lines.emplace_back(buf);
+  ASSERT_EQ(lines.size(), 10u);
+  for (const auto& l : lines) {
+    EXPECT_EQ(l.rfind("scene:7 ucon fn ", 0), 0u) << l;
+    EXPECT_NE(l.find(" gt 3 at 5.00 0.00 range 5.00 motion_other"), std::string::npos) << l;
+  }
 }
 
 TEST(DriveScoring, GivenAMoverSeenAndThenHiddenThenTheSensorSharesCountWhatATrackerCouldHold) {
