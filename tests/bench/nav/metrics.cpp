@@ -271,7 +271,10 @@ bool RunResult::pipelineBroken(std::string* why) const {
   if (count(channels::kPerceptionObjects) == 0) return *why = "no PERCEPTION_OBJECTS", true;
   if (count(channels::kPlannerTrajectory) == 0) return *why = "no PLANNER_TRAJECTORY", true;
   if (wheel_cmds_applied == 0) return *why = "no wheel command reached the plant", true;
-  if (dist_start_goal - dist_left < 1.0) return *why = "the robot did not get 1 m closer to its goal", true;
+  // A robot that detoured and was hit before it got closer to its goal still drove: only one
+  // that ended within 1 m of its start without getting 1 m closer never moved.
+  if (dist_start_goal - dist_left < 1.0 && dist_from_start < 1.0)
+    return *why = "the robot did not get 1 m closer to its goal, nor 1 m from its start", true;
   return false;
 }
 

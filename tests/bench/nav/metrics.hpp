@@ -178,6 +178,7 @@ struct RunResult {
   std::string plan_tally;  ///< " fallbacks k=n ...": the planner's counters of what it did when a plan failed its check
   double robot_speed_at_hit = NAN;
   double dist_start_goal = 0.0, dist_left = 0.0;
+  double dist_from_start = 0.0;  ///< where the robot ended, from its start [m]
   std::map<std::string, int64_t> messages;
   int64_t wheel_cmds_applied = 0;
   int64_t leaked_static = 0, static_points = 0;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "ucon/channels.hpp"
 
 namespace {
@@ -169,4 +171,33 @@ TEST(NavAcquisition, GivenMoversComingIntoViewThenTheDelayToTheirFirstTrackIsRec
   EXPECT_NEAR(a.delays()[0], 0.3, 1e-12);
   EXPECT_NEAR(a.delays()[1], 0.1, 1e-12);
   EXPECT_EQ(a.missed(), 2);
+}
+
+// The pipeline check fails a run whose robot never drove, not one that detoured and was hit
+// before it got closer to its goal (bench:110:66 on seeds 1-120).
+TEST(NavPipeline, GivenARobotThatDroveAwayFromItsGoalThenThePipelineIsNotBroken) {
+  using ucon::bench::nav::RunResult;
+  RunResult r;
+  r.ok = true;
+  r.messages = {{ucon::channels::kLidarPoints, 10}, {ucon::channels::kPerceptionObjects, 10},
+                {ucon::channels::kPlannerTrajectory, 10}};
+  r.wheel_cmds_applied = 10;
+  r.dist_start_goal = 48.0;
+  std::string why;
+  // Never moved: broken.
+  r.dist_left = 48.0;
+  r.dist_from_start = 0.2;
+  EXPECT_TRUE(r.pipelineBroken(&why));
+  EXPECT_NE(why.find("1 m closer"), std::string::npos);
+  // 3 m sideways and back, 0.1 m closer: it drove.
+  r.dist_left = 47.9;
+  r.dist_from_start = 3.0;
+  EXPECT_FALSE(r.pipelineBroken(&why));
+  // 1.5 m closer: it drove.
+  r.dist_left = 46.5;
+  r.dist_from_start = 1.5;
+  EXPECT_FALSE(r.pipelineBroken(&why));
+  // No wheel command reached the plant: broken whatever the distances.
+  r.wheel_cmds_applied = 0;
+  EXPECT_TRUE(r.pipelineBroken(&why));
 }

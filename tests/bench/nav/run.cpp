@@ -174,6 +174,7 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   const Eigen::Vector2d goal = sc->robot.goals.back();
   res.dist_start_goal = (sc->robot.start - goal).norm();
   res.dist_left = (Eigen::Vector2d(s.final_x, s.final_y) - goal).norm();
+  res.dist_from_start = (Eigen::Vector2d(s.final_x, s.final_y) - sc->robot.start).norm();
   const auto ms = mission.summary();
   res.collision = s.collision_episodes > 0 || mission.collided();
   res.success = mission.reachedAll() && !res.collision;
