@@ -514,23 +514,13 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
       const auto fa = r.all.updateXY(gt_now, hyps, eval.threshold_m);
       const auto fe = r.visible.updateXY(gt_now, hyps, eval.threshold_m, &hidden);
       const double t_s = 1e-6 * static_cast<double>(objs.utime);
-      const auto rangeOf = [&](int64_t gid, double* x, double* y) -> double {
-        for (const auto& q : gt_now)
-          if (q.id == gid) {
-            *x = q.x, *y = q.y;
-            return std::hypot(q.x - g->robot_x, q.y - g->robot_y);
-          }
-        return NAN;
-      };
-      if (options.trace) {
-        for (const auto& [gid, tid] : fa.switches) {
-          double x = NAN, y = NAN;
-          const double range = rangeOf(gid, &x, &y);
-          std::fprintf(options.trace, "%s %s idsw %.2f gt %lld -> track %lld at %.2f %.2f range %.2f\n",
-                       options.trace_label.c_str(), r.score.method.c_str(), t_s, static_cast<long long>(gid),
-                       static_cast<long long>(tid), x, y, range);
-        }
-      }
+      if (options.trace)
+        for (const auto& [gid, tid] : fa.switches)
+          for (const auto& q : gt_now)
+            if (q.id == gid)
+              std::fprintf(options.trace, "%s %s idsw %.2f gt %lld -> track %lld at %.2f %.2f range %.2f\n",
+                           options.trace_label.c_str(), r.score.method.c_str(), t_s, static_cast<long long>(gid),
+                           static_cast<long long>(tid), q.x, q.y, std::hypot(q.x - g->robot_x, q.y - g->robot_y));
       const auto rp = poses.at(objs.utime);
       if (rp) {
         const int sb = speedBin(std::hypot(rp->vx, rp->vy)), yb = yawBin(std::abs(rp->wz));
