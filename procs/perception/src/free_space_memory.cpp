@@ -58,14 +58,14 @@ int64_t keyOf(int64_t ix, int64_t iy) {
 }  // namespace
 
 const FreeSpaceMemory::Slot* FreeSpaceMemory::find(int64_t ix, int64_t iy) const {
-  const Slot& slot = slots_[static_cast<std::size_t>(((iy & mask_) * side_) + (ix & mask_))];
+  const Slot& slot = slots_[slotIndex(ix, iy)];
   return slot.key == keyOf(ix, iy) ? &slot : nullptr;
 }
 
 FreeSpaceMemory::Slot* FreeSpaceMemory::claim(float x, float y) {
   int64_t ix = 0, iy = 0;
   if (!cellOf(x, inv_cell_, &ix) || !cellOf(y, inv_cell_, &iy)) return nullptr;
-  Slot& slot = slots_[static_cast<std::size_t>(((iy & mask_) * side_) + (ix & mask_))];
+  Slot& slot = slots_[slotIndex(ix, iy)];
   const int64_t key = keyOf(ix, iy);
   if (slot.key != key) slot = Slot{key, INT64_MIN, INT64_MIN};
   return &slot;

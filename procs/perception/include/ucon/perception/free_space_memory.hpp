@@ -21,6 +21,7 @@
 ///    asked (MotionTest).
 /// Time comes from frame stamps only; an earlier stamp resets the memory.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -73,6 +74,10 @@ class FreeSpaceMemory {
     int64_t free_utime = INT64_MIN;   ///< last frame that saw through the cell
     int64_t hit_utime = INT64_MIN;    ///< last frame with a return in the cell
   };
+  /// Where cell (ix, iy) lives in the rolling grid (shared with the cells side_ apart).
+  std::size_t slotIndex(int64_t ix, int64_t iy) const {
+    return static_cast<std::size_t>(((iy & mask_) * side_) + (ix & mask_));
+  }
   /// The slot of cell (ix, iy), or null when it holds another cell (or none).
   const Slot* find(int64_t ix, int64_t iy) const;
   /// The slot of the cell holding (x, y), emptied first when it held another cell; null for a
