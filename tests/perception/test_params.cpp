@@ -54,13 +54,13 @@ std::string shippedText() {
   X(object_association.centroid_std) X(object_association.cross_gate)                              \
   X(object_association.cross_gate_growth) X(object_association.cross_gate_after)                   \
   X(object_association.cross_gate_until) X(object_association.cross_rank_weight)                   \
-  X(object_association.size_floor) X(object_association.cascade_after)                             \
+  X(object_association.size_floor) X(object_association.cascade_after) X(object_association.split_shared)                             \
   X(reassociation.enabled) X(reassociation.max_history_points) X(reassociation.max_shift)          \
   X(reassociation.max_consecutive)                                                                 \
   X(tracks.confirm_hits) X(tracks.confirm_min_speed) X(tracks.confirm_max_speed)                   \
   X(tracks.confirm_min_distance) X(tracks.confirm_moving_hits) X(tracks.max_stationary)            \
   X(tracks.structure_share) X(tracks.structure_margin) X(tracks.structure_frames)                  \
-  X(tracks.structure_arrival_distance)                                                             \
+  X(tracks.structure_arrival_distance) X(tracks.structure_decline)                                                             \
   X(tracks.new_track_separation) X(tracks.reid_speed) X(tracks.reid_margin) X(tracks.reid_window)  \
   X(tracks.reid_cross_speed) X(tracks.reid_confirm) X(tracks.merge_margin) X(tracks.tentative_max_age)                    \
   X(tracks.tentative_max_misses) X(tracks.max_coast) X(tracks.coast_velocity_decay)                \

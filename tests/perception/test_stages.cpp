@@ -340,3 +340,15 @@ TEST(TrackManager, GivenAnUnseenTrackTheSensorSeesThroughThenItIsDeletedAfterFre
     EXPECT_EQ(unseen_frames, seen > 5.0 ? 2 : 10) << "nearest return " << seen << " m";
   }
 }
+
+TEST(SplitByNearest, GivenTwoCentresThenEachPointGoesToTheNearerAndTiesToTheFirst) {
+  const ucon::perception::Points pts{{0.0f, 0.0f, 1.0f}, {0.4f, 0.0f, 1.0f}, {0.5f, 0.0f, 1.0f}, {1.0f, 0.1f, 1.0f}};
+  const std::vector<int> indices{0, 1, 2, 3};
+  const auto parts = ucon::perception::splitByNearest(pts, indices, {{0.0, 0.0}, {1.0, 0.0}});
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0], (std::vector<int>{0, 1, 2}));  // 0.5 is equally far: the first centre
+  EXPECT_EQ(parts[1], (std::vector<int>{3}));
+  // Only the listed indices; no centre: no parts.
+  EXPECT_EQ(ucon::perception::splitByNearest(pts, {3}, {{0.0, 0.0}, {1.0, 0.0}})[1], (std::vector<int>{3}));
+  EXPECT_TRUE(ucon::perception::splitByNearest(pts, indices, {}).empty());
+}

@@ -132,6 +132,23 @@ std::vector<int> restrictToTrack(const Points& points, const std::vector<char>& 
   return inside.size() >= 3 ? inside : indices;
 }
 
+std::vector<std::vector<int>> splitByNearest(const Points& points, const std::vector<int>& indices,
+                                             const std::vector<Eigen::Vector2d>& centers) {
+  std::vector<std::vector<int>> parts(centers.size());
+  if (centers.empty()) return parts;
+  for (int i : indices) {
+    const Eigen::Vector2d q = points[static_cast<std::size_t>(i)].head<2>().cast<double>();
+    std::size_t best = 0;
+    double best_d = (centers[0] - q).squaredNorm();
+    for (std::size_t k = 1; k < centers.size(); ++k) {
+      const double d = (centers[k] - q).squaredNorm();
+      if (d < best_d) best_d = d, best = k;
+    }
+    parts[best].push_back(i);
+  }
+  return parts;
+}
+
 double movedShare(const std::vector<char>& moved, const std::vector<int>& indices) {
   if (indices.empty()) return 0.0;
   std::size_t n = 0;

@@ -78,6 +78,7 @@ void AssociationParams::read(ConfigReader& r) {
   r.read("cross_gate_until", cross_gate_until, 0.0, 100.0);
   r.read("cascade_after", cascade_after, 0.0, 100.0);
   r.read("size_floor", size_floor, 0.0, 10.0);
+  r.read("split_shared", split_shared);
   r.read("cross_rank_weight", cross_rank_weight, 1.0, 100.0);
 }
 
@@ -99,6 +100,7 @@ void TrackParams::read(ConfigReader& r) {
   r.read("structure_margin", structure_margin, 0.0, 60.0);
   r.read("structure_arrival_distance", structure_arrival_distance, 0.01, 10.0);
   r.read("structure_frames", structure_frames, 0, 1000);
+  r.read("structure_decline", structure_decline);
   r.read("new_track_separation", new_track_separation, 0.0, 10.0);
   r.read("reid_speed", reid_speed, 0.0, 50.0);
   r.read("reid_margin", reid_margin, 0.0, 20.0);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 
 #include "ucon/perception/outputs.hpp"
 #include "ucon/perception/reassociation.hpp"
@@ -74,7 +76,7 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
                         "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
-                        "views_anchored", "velocity_registered"})
+                        "views_anchored", "velocity_registered", "structure_declined", "clusters_split"})
     status_.count(c, 0);
 }
 
@@ -211,9 +213,18 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   std::vector<char> updated(n_old_tracks, 0);
   for (std::size_t j = 0; j < n_old_tracks; ++j) {
     if (a.how[j] == TO::ASSOC_NONE || a.points[j].empty()) continue;
-    const Measurement m = measurer_.measure(frame_, a.points[j], tracks_.tracks()[j].width);
     const Track& tr = tracks_.tracks()[j];
     const bool on_structure = tr.state != TO::STATE_TENTATIVE && onStructure(a.points[j], tr.arrival_utime);
+    // A coasting track near structure keeps the structure's cluster dynamic by its own
+    // prediction (segmentation.track_support_distance); taking it would pull the track onto the
+    // box beside which it lost its person, and the structure rule would end it before the
+    // person came out again.
+    if (on_structure && !a.moving[j] && tr.state == TO::STATE_COASTING && params_.tracks.structure_decline) {
+      tracks_.declineOnStructure(j);
+      status_.count("structure_declined");
+      continue;
+    }
+    const Measurement m = measurer_.measure(frame_, a.points[j], tr.width);
     tracks_.update(j, m, utime, a.how[j], a.moving[j] != 0, on_structure, status_);
     updated[j] = 1;
     for (int i : a.points[j]) a.tracked_point[i] = 1;
@@ -273,12 +284,56 @@ void PerceptionNode::associate(const std::vector<int>& dynamic, const std::vecto
     const int j = match.detection_to_track[k];
     if (j < 0) continue;
     const Track& tr = tracks_.tracks()[j];
-    a->points[j] = restrictToTrack(frame_.points, frame_.moved, tr.kf.state().head<2>(), tr.size,
-                                   params_.tracks.merge_margin, detections_[dynamic[k]].indices);
-    a->how[j] = TO::ASSOC_OBJECT;
-    a->moving[j] = movedShare(frame_.moved, a->points[j]) >= params_.segmentation.motion_ratio;
+    const std::vector<int>& indices = detections_[dynamic[k]].indices;
     a->taken[dynamic[k]] = 1;
+    const std::vector<int> sharing = sharingTracks(indices, j, match, views);
+    if (sharing.empty()) {
+      a->points[j] = restrictToTrack(frame_.points, frame_.moved, tr.kf.state().head<2>(), tr.size,
+                                     params_.tracks.merge_margin, indices);
+      a->how[j] = TO::ASSOC_OBJECT;
+      a->moving[j] = movedShare(frame_.moved, a->points[j]) >= params_.segmentation.motion_ratio;
+      continue;
+    }
+    // Objects merged into one cluster: each point measures the track predicted nearest to it
+    // (a part too small to measure leaves its track to re-association).
+    std::vector<int> owners = sharing;
+    owners.push_back(j);
+    std::vector<Eigen::Vector2d> centers;
+    for (int o : owners) centers.push_back(views[o].box.center);
+    std::vector<std::vector<int>> parts = splitByNearest(frame_.points, indices, centers);
+    status_.count("clusters_split");
+    for (std::size_t s = 0; s < owners.size(); ++s) {
+      const int o = owners[s];
+      if (parts[s].size() < 3 || (o != j && a->how[o] != TO::ASSOC_NONE)) continue;
+      a->points[o] = std::move(parts[s]);
+      a->how[o] = TO::ASSOC_OBJECT;
+      a->moving[o] = movedShare(frame_.moved, a->points[o]) >= params_.segmentation.motion_ratio;
+    }
   }
+}
+
+std::vector<int> PerceptionNode::sharingTracks(const std::vector<int>& indices, int j, const Matching& match,
+                                               const std::vector<TrackView>& views) const {
+  // Tracks followed up to the last frame (not tentative, seen within cascade_after) that took
+  // no cluster of their own and whose prediction lies in this cluster's x-y bounds (grown by
+  // kShareMargin): their objects merged with track j's.
+  constexpr double kShareMargin = 0.1;  // [m]
+  std::vector<int> sharing;
+  if (!params_.useUcon() || !params_.object_association.split_shared || indices.empty()) return sharing;
+  Eigen::Vector2d lo = frame_.points[indices[0]].head<2>().cast<double>(), hi = lo;
+  for (int i : indices) {
+    lo = lo.cwiseMin(frame_.points[i].head<2>().cast<double>());
+    hi = hi.cwiseMax(frame_.points[i].head<2>().cast<double>());
+  }
+  for (std::size_t o = 0; o < views.size(); ++o) {
+    if (static_cast<int>(o) == j || match.track_to_detection[o] >= 0) continue;
+    if (tracks_.tracks()[o].state == TO::STATE_TENTATIVE || views[o].since_last > params_.object_association.cascade_after)
+      continue;
+    const Eigen::Vector2d c = views[o].box.center;
+    if ((c.array() >= lo.array() - kShareMargin).all() && (c.array() <= hi.array() + kShareMargin).all())
+      sharing.push_back(static_cast<int>(o));
+  }
+  return sharing;
 }
 
 void PerceptionNode::recover(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a) {

@@ -61,6 +61,11 @@ class Measurer {
 std::vector<int> restrictToTrack(const Points& points, const std::vector<char>& moved, const Eigen::Vector2d& center,
                                  const Eigen::Vector2d& size, double margin, const std::vector<int>& indices);
 
+/// `indices` split by the nearest of `centers` in x-y (ties to the first): part k holds the
+/// points nearer to centers[k] than to any other centre. Objects merged into one cluster.
+std::vector<std::vector<int>> splitByNearest(const Points& points, const std::vector<int>& indices,
+                                             const std::vector<Eigen::Vector2d>& centers);
+
 /// Share of `indices` marked in `moved` (0 for none).
 double movedShare(const std::vector<char>& moved, const std::vector<int>& indices);
 

@@ -86,6 +86,7 @@ struct AssociationParams {
   double cross_rank_weight = 3.0;    ///< rankingDistance(): weight of the offset across a coasting track's heading (1 = plain distance)
   double size_floor = 0.5;           ///< eq. 1's size term divides by max(|s_h|, this) [m]
   double cascade_after = 0.1;        ///< tracks seen within this are matched before the others [s]; 0 = one matching
+  bool split_shared = true;          ///< a matched cluster holding the prediction of another track seen within cascade_after that took no cluster is split between them, each point to the nearer prediction
   void read(ConfigReader& r);
 };
 
@@ -111,6 +112,7 @@ struct TrackParams {
   double structure_margin = 1.0;    ///< ... occupied since this long before the track was created or arrived at its place [s], >= 0
   double structure_arrival_distance = 0.5;  ///< [m] its place: its measured centre has stayed within this distance of it since it came there, > 0
   int structure_frames = 5;         ///< a confirmed track measured on structure this many frames in a row is deleted; 0 = off
+  bool structure_decline = true;    ///< a coasting track does not take a measurement on structure that did not move (counted as a frame on structure)
   double new_track_separation = 0.7;  ///< no new track from a cluster this close to an existing track [m]
   double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
   double reid_margin = 0.5;         ///< [m]

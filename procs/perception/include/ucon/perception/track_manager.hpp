@@ -92,6 +92,10 @@ class TrackManager {
   /// Whether a track's predicted centre lies within new_track_separation of `center`: a
   /// cluster there is a fragment of a tracked object, not a new one.
   bool nearTrack(const Eigen::Vector2d& center) const;
+
+  /// Track j (coasting) was offered a measurement on structure whose points did not move and
+  /// did not take it: it stays unseen, and the frame counts toward tracks.structure_frames.
+  void declineOnStructure(std::size_t j) { ++tracks_[j].structure_frames; }
   /// Starts a tentative track from a moving cluster's measurement. False (and counted as a
   /// kalman error) when its filter cannot start.
   bool start(const Measurement& m, int64_t utime, StatusReport& status);
