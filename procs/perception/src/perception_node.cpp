@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
-#include <cstdlib>
 
 #include "ucon/perception/outputs.hpp"
 #include "ucon/perception/reassociation.hpp"

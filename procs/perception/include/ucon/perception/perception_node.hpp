@@ -89,9 +89,9 @@ class PerceptionNode {
   PerceptionOutput invalidOutput(int64_t utime, int64_t frame_seq, const std::string& why);
   void associate(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a);
   void recover(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a);
-  /// The tracks other than j whose objects merged into the cluster of these frame points, with
-  /// UCON's association and object_association.split_shared on: not tentative, seen within cascade_after, matched
-  /// to no cluster, predicted within 0.1 m of the cluster's x-y bounds.
+  /// The tracks other than j whose objects merged into the cluster of these frame points (with
+  /// UCON's association and object_association.split_shared on): not tentative, seen within
+  /// cascade_after, matched to no cluster, predicted within 0.1 m of the cluster's x-y bounds.
   std::vector<int> sharingTracks(const std::vector<int>& indices, int j, const Matching& match,
                                  const std::vector<TrackView>& views) const;
   void startTracks(const std::vector<int>& dynamic, Assignment* a);
