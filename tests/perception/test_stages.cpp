@@ -352,3 +352,26 @@ TEST(SplitByNearest, GivenTwoCentresThenEachPointGoesToTheNearerAndTiesToTheFirs
   EXPECT_EQ(ucon::perception::splitByNearest(pts, {3}, {{0.0, 0.0}, {1.0, 0.0}})[1], (std::vector<int>{3}));
   EXPECT_TRUE(ucon::perception::splitByNearest(pts, indices, {}).empty());
 }
+
+TEST(TrackManager, GivenANewTrackThenItsVelocitySettlesOnlyAfterSomeMeasurements) {
+  const PerceptionParams p;  // initial_velocity_std 1.0 m/s, velocity_std 0.4 m/s
+  const AngularGrid coarse(p.tracks.free_bin_deg);
+  TrackManager tm(p, coarse);
+  ucon::StatusReport status("test");
+  ASSERT_TRUE(tm.start(measurementAt(3.0, 0.0), 1'000'000'000, status));
+  EXPECT_FALSE(velocitySettled(tm.tracks()[0], p.kalman.velocity_std)) << "a new track's velocity is a guess";
+  const Frame f = frameSeeing(3.0, coarse);
+  int settled_after = 0;
+  for (int k = 1; k <= 20 && settled_after == 0; ++k) {
+    const int64_t t = 1'000'000'000 + k * 20'000;
+    tm.predict(t, status);
+    tm.update(0, measurementAt(3.0 + 0.024 * k, 0.0), t, TO::ASSOC_OBJECT, true, false, status);
+    tm.manage(t, {1}, f, status);
+    if (velocitySettled(tm.tracks()[0], p.kalman.velocity_std)) settled_after = k;
+  }
+  EXPECT_GT(settled_after, 0);
+  EXPECT_LE(settled_after, 5) << "a few measurements settle it";
+  // Coasting, the variance grows again.
+  for (int k = 21; k <= 100; ++k) tm.predict(1'000'000'000 + k * 20'000, status);
+  EXPECT_FALSE(velocitySettled(tm.tracks()[0], p.kalman.velocity_std));
+}

@@ -312,12 +312,16 @@ void PerceptionNode::associate(const std::vector<int>& dynamic, const std::vecto
 
 std::vector<int> PerceptionNode::sharingTracks(const std::vector<int>& indices, int j, const Matching& match,
                                                const std::vector<TrackView>& views) const {
-  // Tracks followed up to the last frame (not tentative, seen within cascade_after) that took
-  // no cluster of their own and whose prediction lies in this cluster's x-y bounds (grown by
-  // kShareMargin): their objects merged with track j's.
+  // Tracks followed up to the last frame (not tentative, seen within cascade_after, velocity
+  // settled) that took no cluster of their own and whose prediction lies in this cluster's x-y
+  // bounds (grown by kShareMargin): their objects merged with track j's.
   constexpr double kShareMargin = 0.1;  // [m]
   std::vector<int> sharing;
   if (!params_.useUcon() || !params_.object_association.split_shared || indices.empty()) return sharing;
+  // The split places each point by the predictions: a track whose velocity is not settled yet
+  // (a young one) would take the wrong half.
+  const auto settled = [&](std::size_t t) { return velocitySettled(tracks_.tracks()[t], params_.kalman.velocity_std); };
+  if (!settled(static_cast<std::size_t>(j))) return sharing;
   Eigen::Vector2d lo = frame_.points[indices[0]].head<2>().cast<double>(), hi = lo;
   for (int i : indices) {
     lo = lo.cwiseMin(frame_.points[i].head<2>().cast<double>());
@@ -325,7 +329,8 @@ std::vector<int> PerceptionNode::sharingTracks(const std::vector<int>& indices, 
   }
   for (std::size_t o = 0; o < views.size(); ++o) {
     if (static_cast<int>(o) == j || match.track_to_detection[o] >= 0) continue;
-    if (tracks_.tracks()[o].state == TO::STATE_TENTATIVE || views[o].since_last > params_.object_association.cascade_after)
+    if (tracks_.tracks()[o].state == TO::STATE_TENTATIVE || views[o].since_last > params_.object_association.cascade_after ||
+        !settled(o))
       continue;
     const Eigen::Vector2d c = views[o].box.center;
     if ((c.array() >= lo.array() - kShareMargin).all() && (c.array() <= hi.array() + kShareMargin).all())

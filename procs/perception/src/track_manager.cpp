@@ -291,6 +291,10 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
   status.count("tracks_deleted", static_cast<int64_t>(before - tracks_.size()));
 }
 
+bool velocitySettled(const Track& t, double velocity_std) {
+  return t.kf.covariance().block<2, 2>(3, 3).trace() <= 2.0 * velocity_std * velocity_std;
+}
+
 bool TrackManager::nearTrack(const Eigen::Vector2d& center) const {
   for (const auto& tr : tracks_)
     if ((tr.kf.state().head<2>() - center).norm() < params_.new_track_separation) return true;

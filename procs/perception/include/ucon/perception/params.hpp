@@ -86,7 +86,7 @@ struct AssociationParams {
   double cross_rank_weight = 3.0;    ///< rankingDistance(): weight of the offset across a coasting track's heading (1 = plain distance)
   double size_floor = 0.5;           ///< eq. 1's size term divides by max(|s_h|, this) [m]
   double cascade_after = 0.1;        ///< tracks seen within this are matched before the others [s]; 0 = one matching
-  bool split_shared = true;          ///< a matched cluster holding the prediction of another track seen within cascade_after that took no cluster is split between them, each point to the nearer prediction
+  bool split_shared = true;          ///< a matched cluster holding the prediction of another track seen within cascade_after that took no cluster is split between them (both velocities settled), each point to the nearer prediction
   void read(ConfigReader& r);
 };
 

@@ -91,7 +91,8 @@ class PerceptionNode {
   void recover(const std::vector<int>& dynamic, const std::vector<TrackView>& views, Assignment* a);
   /// The tracks other than j whose objects merged into the cluster of these frame points (with
   /// UCON's association and object_association.split_shared on): not tentative, seen within
-  /// cascade_after, matched to no cluster, predicted within 0.1 m of the cluster's x-y bounds.
+  /// cascade_after, matched to no cluster, predicted within 0.1 m of the cluster's x-y bounds;
+  /// none unless j and they have a settled velocity (velocitySettled()).
   std::vector<int> sharingTracks(const std::vector<int>& indices, int j, const Matching& match,
                                  const std::vector<TrackView>& views) const;
   void startTracks(const std::vector<int>& dynamic, Assignment* a);

@@ -62,6 +62,11 @@ struct Track {
   explicit Track(const kalman::KalmanParams& p) : kf(p) {}
 };
 
+/// Whether a track's filtered x-y velocity is settled: its variance (the trace of the x-y
+/// velocity block) at most that of one velocity measurement in each axis, 2 velocity_std^2.
+/// A new track starts at kalman.initial_velocity_std and gets there after a few measurements.
+bool velocitySettled(const Track& t, double velocity_std);
+
 class TrackManager {
  public:
   /// `coarse`: the bins of the "seen through" check (tracks.free_bin_deg), over which
