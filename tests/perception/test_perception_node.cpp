@@ -736,27 +736,39 @@ TEST(PerceptionNode, GivenAPersonPartlyHiddenBehindANearerPillarThenItsCentreIsP
 // differenced centres do. Without the split of a shared cluster (which measures each person on
 // their own half; tested below), as where the split does not apply.
 namespace {
-double passingVelocityError(bool registration) {
-  PerceptionParams p = testParams();
-  p.tracks.registration_velocity = registration;
-  p.object_association.split_shared = false;
-  PerceptionNode node(p);
-  const std::vector<scene::Person> people{{3.0, -3.0, 0.0, 1.2}, {3.55, 3.0, 0.0, -1.0}};
-  const RunResult r = run(node, 250, [&](int) { return people; }, kWalls);
+// The two people of the passes below: on lines 0.55 m apart, walking towards each other.
+const std::vector<scene::Person> kPassingPeople{{3.0, -3.0, 0.0, 1.2}, {3.55, 3.0, 0.0, -1.0}};
+
+// Rms velocity error of the confirmed tracks within 0.4 m of the two people around the pass
+// (less than 1.5 m apart in y); `samples` gets the number of track-frames it counted.
+double passVelocityRms(const RunResult& r, int* samples) {
+  const auto& people = kPassingPeople;
   double sum2 = 0.0;
   int n = 0;
   for (int k = 100; k < 250; ++k) {
     const double t = (scene::frameTime(k) - scene::kT0) * 1e-6;
+    if (std::fabs(people[0].y(t) - people[1].y(t)) > 1.5) continue;
     for (const auto& person : people) {
-      if (std::fabs(people[0].y(t) - people[1].y(t)) > 1.5) continue;  // around the pass
       const TO* tr = nearestConfirmed(r.objects[static_cast<std::size_t>(k)], person.x(t), person.y(t), 0.4);
       if (!tr) continue;
       sum2 += std::pow(tr->vx - person.vx, 2) + std::pow(tr->vy - person.vy, 2);
       ++n;
     }
   }
-  EXPECT_GT(n, 60) << "both people must be tracked through the pass";
+  *samples = n;
   return n > 0 ? std::sqrt(sum2 / n) : INFINITY;
+}
+
+double passingVelocityError(bool registration) {
+  PerceptionParams p = testParams();
+  p.tracks.registration_velocity = registration;
+  p.object_association.split_shared = false;
+  PerceptionNode node(p);
+  const RunResult r = run(node, 250, [&](int) { return kPassingPeople; }, kWalls);
+  int n = 0;
+  const double rms = passVelocityRms(r, &n);
+  EXPECT_GT(n, 60) << "both people must be tracked through the pass";
+  return rms;
 }
 }  // namespace
 
@@ -879,7 +891,7 @@ SharedPass passSharingACluster(bool split) {
   p.tracks.merge_margin = 1.0;
   p.tracks.reid_speed = 0.0;  // about which points measure which track, not about recovering an id
   PerceptionNode node(p);
-  const std::vector<scene::Person> people{{3.0, -3.0, 0.0, 1.2}, {3.55, 3.0, 0.0, -1.0}};
+  const auto& people = kPassingPeople;
   const RunResult r = run(node, 250, [&](int) { return people; }, kWalls);
   const auto idOf = [&](int k, const scene::Person& person) -> int64_t {
     const double t = (scene::frameTime(k) - scene::kT0) * 1e-6;
@@ -889,19 +901,9 @@ SharedPass passSharingACluster(bool split) {
   SharedPass s;
   const int64_t a0 = idOf(100, people[0]), b0 = idOf(100, people[1]);
   s.kept = a0 >= 0 && b0 >= 0 && a0 != b0 && idOf(249, people[0]) == a0 && idOf(249, people[1]) == b0;
-  double sum2 = 0.0;
   int n = 0;
-  for (int k = 100; k < 250; ++k) {
-    const double t = (scene::frameTime(k) - scene::kT0) * 1e-6;
-    if (std::fabs(people[0].y(t) - people[1].y(t)) > 1.5) continue;
-    for (const auto& person : people) {
-      const TO* tr = nearestConfirmed(r.objects[static_cast<std::size_t>(k)], person.x(t), person.y(t), 0.4);
-      if (!tr) continue;
-      sum2 += std::pow(tr->vx - person.vx, 2) + std::pow(tr->vy - person.vy, 2);
-      ++n;
-    }
-  }
-  if (n > 60) s.velocity_rms = std::sqrt(sum2 / n);
+  const double rms = passVelocityRms(r, &n);
+  if (n > 60) s.velocity_rms = rms;
   s.splits = node.status().counter("clusters_split");
   return s;
 }
