@@ -1,5 +1,6 @@
 #include "ucon/cell_age.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -40,6 +41,14 @@ int CellAge::hit(int64_t utime, double x, double y) {
   }
   slot.last_utime = utime;
   return s;
+}
+
+bool CellAge::hold(int slot, int64_t key, int64_t utime) {
+  if (slot < 0 || static_cast<std::size_t>(slot) >= slots_.size()) return false;
+  Slot& s = slots_[static_cast<std::size_t>(slot)];
+  if (s.key != key || s.first_utime == kNever || utime - s.last_utime > max_gap_us_) return false;
+  s.last_utime = std::max(s.last_utime, utime);
+  return true;
 }
 
 int64_t CellAge::occupiedSince(double x, double y, int64_t now) const {

@@ -917,3 +917,42 @@ TEST(PerceptionNode, GivenTwoPeopleInOneClusterThenEachTrackMeasuresTheHalfNeare
   EXPECT_GT(off.velocity_rms, 0.3) << "the scene must merge the two people into one track's cluster";
   EXPECT_LT(on.velocity_rms, 0.5 * off.velocity_rms);
 }
+
+// A box 3 m ahead is hidden for 1.5 s (longer than segmentation.static_max_gap) by someone
+// standing 1.5 m in front of it, then seen again. Hidden is not empty: with
+// segmentation.static_hold_hidden its cells keep their occupancy, so the box is structure again
+// in the first frame that sees it (for PERCEPTION_STATIC and the tracks' structure rule);
+// without, its cells start over and it comes back only after static_persistence.
+namespace {
+int boxStaticPointsAfterHiding(bool hold, int frames_after, int64_t* held) {
+  PerceptionParams p = testParams();
+  p.segmentation.static_hold_hidden = hold;
+  PerceptionNode node(p);
+  scene::Generator gen;
+  const scene::Wall box{3.0, -0.4, 3.0, 0.4};
+  const scene::Wall occluder{1.5, -0.5, 1.5, 0.5, 0.02, 0.02};  // dense: a return in every bin behind it
+  const scene::Wall far_wall{-3, 4, 6, 4};
+  const int hide_from = 60, hide_to = 135, last = hide_to + frames_after;
+  int n = -1;
+  for (int k = 0; k <= last; ++k) {
+    node.onPose(scene::pose(scene::frameTime(k)));
+    const bool hidden = k >= hide_from && k < hide_to;
+    const auto out = node.onPoints(gen.frame(k, {}, {hidden ? occluder : box, far_wall}));
+    if (k != last || !out.static_points) continue;
+    n = 0;
+    for (int i = 0; i < out.static_points->num_points; ++i)
+      n += std::fabs(out.static_points->x[i] - 3.0f) < 0.1f && std::fabs(out.static_points->y[i]) < 0.5f;
+  }
+  *held = node.status().counter("static_cells_held");
+  return n;
+}
+}  // namespace
+
+TEST(PerceptionNode, GivenABoxHiddenLongerThanTheGapThenItIsStructureAgainAsSoonAsItIsSeen) {
+  int64_t held_on = 0, held_off = 0, unused = 0;
+  EXPECT_GT(boxStaticPointsAfterHiding(true, 1, &held_on), 10);
+  EXPECT_EQ(boxStaticPointsAfterHiding(false, 1, &held_off), 0);
+  EXPECT_GT(boxStaticPointsAfterHiding(false, 30, &unused), 10) << "after the persistence time it is back anyway";
+  EXPECT_GT(held_on, 0);
+  EXPECT_EQ(held_off, 0);
+}

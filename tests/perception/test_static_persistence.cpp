@@ -2,6 +2,7 @@
 // for the persistence time; movers never hold a cell that long.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -82,4 +83,98 @@ TEST(StaticPersistence, GivenZeroPersistenceThenEveryFinitePointPasses) {
   std::vector<char> ok;
   sp.update(kT0, {{1.0f, 1.0f, 1.0f}, {7.0f, -2.0f, 0.4f}}, &ok);
   EXPECT_EQ(ok, (std::vector<char>{1, 1}));
+}
+
+namespace {
+// A box face 3 m in front of the sensor, and frames in which someone 1.5 m away hides it.
+struct HiddenBox {
+  ucon::perception::AngularGrid grid{1.0};
+  Eigen::Vector3f origin{0.0f, 0.0f, 0.5f};
+  Eigen::Vector3f face{3.05f, 0.05f, 0.8f};
+  std::vector<float> nearest;
+  HiddenBox() { nearest.assign(static_cast<std::size_t>(grid.size()), INFINITY); }
+  // The nearest return of the face's direction this frame is `range` metres away.
+  StaticPersistence::Occlusion view(float range) {
+    std::fill(nearest.begin(), nearest.end(), INFINITY);
+    nearest[static_cast<std::size_t>(grid.bin(Eigen::Vector3f(face - origin)))] = range;
+    StaticPersistence::Occlusion o;
+    o.origin = origin;
+    o.grid = &grid;
+    o.nearest = &nearest;
+    o.margin = 0.3f;
+    return o;
+  }
+};
+
+// Seen 0.6 s, then 1.5 s (five times max_gap) unhit with the nearest return of its direction at
+// `gap_range`, then seen again: whether its point passes at once.
+bool passesRightAfterTheGap(float gap_range, bool with_view) {
+  HiddenBox b;
+  StaticPersistence sp(0.2, 0.5, 0.3);
+  std::vector<char> ok;
+  int64_t t = kT0;
+  for (int k = 0; k < 30; ++k, t += kDt) {
+    const auto o = b.view(std::hypot(b.face.x(), b.face.y()));
+    sp.update(t, {b.face}, &ok, with_view ? &o : nullptr);
+  }
+  EXPECT_EQ(ok[0], 1);
+  for (int k = 0; k < 75; ++k, t += kDt) {
+    const auto o = b.view(gap_range);
+    sp.update(t, {}, &ok, with_view ? &o : nullptr);
+  }
+  const auto o = b.view(std::hypot(b.face.x(), b.face.y()));
+  sp.update(t, {b.face}, &ok, with_view ? &o : nullptr);
+  return ok[0] != 0;
+}
+}  // namespace
+
+TEST(StaticPersistence, GivenACellHiddenBehindSomeoneNearerThenItKeepsItsRunThroughTheGap) {
+  // A person 1.5 m away stands in front of the face for 1.5 s: the face is still structure.
+  EXPECT_TRUE(passesRightAfterTheGap(1.5f, true));
+  // Without the occlusion view the gap starts the cell over, as before.
+  EXPECT_FALSE(passesRightAfterTheGap(1.5f, false));
+}
+
+TEST(StaticPersistence, GivenACellNotHiddenThroughTheGapThenItStartsOver) {
+  EXPECT_FALSE(passesRightAfterTheGap(INFINITY, true));  // no return in its direction at all
+  EXPECT_FALSE(passesRightAfterTheGap(6.0f, true));      // seen through: the space is free
+  EXPECT_FALSE(passesRightAfterTheGap(2.9f, true));      // nearer by less than the margin: its own surface
+}
+
+TEST(StaticPersistence, GivenAHiddenCellThenItIsHeldOnlyWhileItsRunLasts) {
+  // Unhit and not hidden for longer than max_gap, the run ends; hiding it afterwards does not
+  // bring it back.
+  HiddenBox b;
+  StaticPersistence sp(0.2, 0.5, 0.3);
+  std::vector<char> ok;
+  int64_t t = kT0;
+  for (int k = 0; k < 30; ++k, t += kDt) {
+    const auto o = b.view(3.0f);
+    sp.update(t, {b.face}, &ok, &o);
+  }
+  const int64_t holds_before = sp.holds();
+  for (int k = 0; k < 20; ++k, t += kDt) {  // 0.4 s > max_gap, nothing in front
+    const auto o = b.view(INFINITY);
+    sp.update(t, {}, &ok, &o);
+  }
+  for (int k = 0; k < 20; ++k, t += kDt) {
+    const auto o = b.view(1.0f);
+    sp.update(t, {}, &ok, &o);
+  }
+  EXPECT_EQ(sp.holds(), holds_before);
+  EXPECT_EQ(sp.occupiedSince(b.face.x(), b.face.y(), t), ucon::CellAge::kNever);
+}
+
+TEST(CellAge, GivenAHoldThenOnlyTheCellsOwnLiveRunIsCarriedOn) {
+  ucon::CellAge cells(0.2, 0.3, 256);
+  const int s = cells.hit(kT0, 1.05, 1.05);
+  ASSERT_GE(s, 0);
+  const int64_t key = cells.slotKey(s);
+  EXPECT_TRUE(cells.hold(s, key, kT0 + 250'000));
+  EXPECT_TRUE(cells.hold(s, key, kT0 + 500'000));  // 0.25 s after the hold: still within max_gap
+  EXPECT_EQ(cells.occupiedSince(1.05, 1.05, kT0 + 700'000), kT0);
+  EXPECT_FALSE(cells.hold(s, key + 1, kT0 + 700'000));  // another cell's key
+  EXPECT_FALSE(cells.hold(s, key, kT0 + 900'000));      // the run ended 0.3 s after the last hold
+  EXPECT_FALSE(cells.hold(-1, key, kT0));
+  EXPECT_EQ(cells.occupiedSince(1.05, 1.05, kT0 + 900'000), ucon::CellAge::kNever);
 }

@@ -27,6 +27,15 @@ class CellAge {
   /// Records a hit at `utime` [us] of the cell holding (x, y) [m]. Returns the cell's slot,
   /// or -1 for a non-finite or absurdly far point (nothing recorded).
   int hit(int64_t utime, double x, double y);
+  /// Packed key of the cell a slot returned by hit() holds now (hold() needs it).
+  int64_t slotKey(int slot) const { return slots_[static_cast<std::size_t>(slot)].key; }
+  /// Time of the last hit (or hold) of a slot returned by hit() [us].
+  int64_t slotLast(int slot) const { return slots_[static_cast<std::size_t>(slot)].last_utime; }
+  /// Carries the current run of a slot on to `utime` [us] without a hit: the cell was hidden
+  /// behind something nearer, which is no evidence that it emptied. Returns false and changes
+  /// nothing when the slot holds another cell than `key` now or its run has already ended
+  /// (last hit more than max_gap before `utime`).
+  bool hold(int slot, int64_t key, int64_t utime);
   /// Start of the current run of hits of a slot returned by hit() [us].
   int64_t slotSince(int slot) const { return slots_[static_cast<std::size_t>(slot)].first_utime; }
   /// Start of the current run of hits of the cell holding (x, y) [us], or kNever when the

@@ -74,7 +74,8 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
                         "poses_in", "poses_invalid", "poses_non_finite", "poses_out_of_order",
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
                         "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
-                        "views_anchored", "velocity_registered", "structure_declined", "clusters_split"})
+                        "views_anchored", "velocity_registered", "structure_declined", "clusters_split",
+                        "static_cells_held"})
     status_.count(c, 0);
 }
 
@@ -244,7 +245,15 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
   std::vector<char> not_static = a.tracked_point;  // + points whose cell is not persistent yet
   t = stopwatch_();
   if (params_.segmentation.static_persistence > 0.0) {
-    persistence_.update(utime, frame_.points, &persistent_);
+    StaticPersistence::Occlusion hidden;
+    hidden.origin = frame_.sensor_origin;
+    hidden.grid = &fine_grid_;
+    hidden.nearest = &frame_.nearest_fine;
+    hidden.margin = static_cast<float>(params_.segmentation.free_space_margin);
+    const int64_t held = persistence_.holds();
+    persistence_.update(utime, frame_.points, &persistent_,
+                        params_.segmentation.static_hold_hidden ? &hidden : nullptr);
+    if (persistence_.holds() > held) status_.count("static_cells_held", persistence_.holds() - held);
     for (std::size_t i = 0; i < frame_.points.size(); ++i)
       if (!persistent_[i]) not_static[i] = 1;
   }

@@ -7,28 +7,72 @@ namespace ucon {
 namespace perception {
 
 StaticPersistence::StaticPersistence(double cell, double persistence, double max_gap, int cells_per_side)
-    : cells_(cell, max_gap, cells_per_side), persistence_us_(static_cast<int64_t>(std::llround(persistence * 1e6))) {
+    : cells_(cell, max_gap, cells_per_side),
+      persistence_us_(static_cast<int64_t>(std::llround(persistence * 1e6))),
+      max_gap_us_(static_cast<int64_t>(std::llround(max_gap * 1e6))),
+      live_index_(static_cast<std::size_t>(cells_per_side) * static_cast<std::size_t>(cells_per_side), -1) {
   if (!(persistence >= 0.0)) throw std::invalid_argument("StaticPersistence: persistence must be >= 0");
 }
 
 void StaticPersistence::reset() {
   cells_.reset();
   last_utime_ = INT64_MIN;
+  for (const Live& l : live_) live_index_[static_cast<std::size_t>(l.slot)] = -1;
+  live_.clear();
 }
 
 void StaticPersistence::update(int64_t utime, const std::vector<Eigen::Vector3f>& points,
-                               std::vector<char>* persistent) {
+                               std::vector<char>* persistent, const Occlusion* occlusion) {
   if (utime < last_utime_) reset();
   last_utime_ = utime;
   persistent->assign(points.size(), 0);
   point_slot_.assign(points.size(), -1);
   // First record the hits of the whole frame, then judge: every point of a cell gets the
   // same answer.
-  for (std::size_t i = 0; i < points.size(); ++i)
-    point_slot_[i] = cells_.hit(utime, static_cast<double>(points[i].x()), static_cast<double>(points[i].y()));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const int s = cells_.hit(utime, static_cast<double>(points[i].x()), static_cast<double>(points[i].y()));
+    point_slot_[i] = s;
+    if (s < 0 || occlusion == nullptr) continue;
+    int& k = live_index_[static_cast<std::size_t>(s)];
+    if (k < 0) {
+      k = static_cast<int>(live_.size());
+      live_.push_back({s, cells_.slotKey(s), points[i]});
+    } else {
+      live_[static_cast<std::size_t>(k)].key = cells_.slotKey(s);
+      live_[static_cast<std::size_t>(k)].point = points[i];
+    }
+  }
+  if (occlusion != nullptr && occlusion->grid != nullptr && occlusion->nearest != nullptr)
+    holdHidden(utime, *occlusion);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (point_slot_[i] < 0) continue;
     (*persistent)[i] = utime - cells_.slotSince(point_slot_[i]) >= persistence_us_ ? 1 : 0;
+  }
+}
+
+void StaticPersistence::holdHidden(int64_t utime, const Occlusion& o) {
+  const std::vector<float>& nearest = *o.nearest;
+  for (std::size_t k = 0; k < live_.size();) {
+    Live& l = live_[k];
+    const int64_t last = cells_.slotLast(l.slot);
+    if (cells_.slotKey(l.slot) != l.key || utime - last > max_gap_us_) {
+      // The run ended (or another cell took the slot): forget the entry.
+      live_index_[static_cast<std::size_t>(l.slot)] = -1;
+      if (k + 1 != live_.size()) {
+        live_[k] = live_.back();
+        live_index_[static_cast<std::size_t>(live_[k].slot)] = static_cast<int>(k);
+      }
+      live_.pop_back();
+      continue;
+    }
+    if (last < utime) {
+      const Eigen::Vector3f ray = l.point - o.origin;
+      const float range = ray.norm();
+      const auto bin = static_cast<std::size_t>(o.grid->bin(ray));
+      if (range > 0.0f && bin < nearest.size() && nearest[bin] < range - o.margin && cells_.hold(l.slot, l.key, utime))
+        ++holds_;
+    }
+    ++k;
   }
 }
 

@@ -7,6 +7,10 @@
 /// it is: a point goes to the static output only once its x-y cell has been hit without a
 /// long gap for `persistence` seconds. Fast movers never hold a cell that long; newly seen
 /// structure is published `persistence` later. Time comes from frame stamps only.
+///
+/// A cell hidden behind something nearer (a crowd walking in front of a box) is not seen, which
+/// is no evidence that it emptied: with an occlusion view, such a cell keeps its run through
+/// the gap, so the box counts as old structure when it is seen again.
 
 #include <cstdint>
 #include <vector>
@@ -14,12 +18,22 @@
 #include <Eigen/Core>
 
 #include "ucon/cell_age.hpp"
+#include "ucon/perception/angular_grid.hpp"
 
 namespace ucon {
 namespace perception {
 
 class StaticPersistence {
  public:
+  /// What a frame saw nearest in each direction: a cell whose last hit lies more than `margin`
+  /// behind the nearest return in its bin (seen from `origin`) is hidden this frame.
+  struct Occlusion {
+    Eigen::Vector3f origin = Eigen::Vector3f::Zero();  ///< sensor origin, world [m]
+    const AngularGrid* grid = nullptr;                 ///< the bins of `nearest`
+    const std::vector<float>* nearest = nullptr;       ///< nearest return per bin [m]; inf = none
+    float margin = 0.3f;                               ///< [m]
+  };
+
   /// @param cell x-y cell edge [m], > 0
   /// @param persistence a cell must have been occupied this long [s], >= 0 (0: every point passes)
   /// @param max_gap a cell not hit for longer than this starts over [s], > 0
@@ -30,7 +44,9 @@ class StaticPersistence {
   /// Records the x-y cells of `points` as hit at `utime` and marks in `persistent` (resized to
   /// points.size()) the points whose cell has been occupied for at least `persistence`.
   /// Frames must come in non-decreasing time; an earlier stamp resets the grid.
-  void update(int64_t utime, const std::vector<Eigen::Vector3f>& points, std::vector<char>* persistent);
+  /// With `occlusion`, every occupied cell this frame did not hit but hid keeps its run.
+  void update(int64_t utime, const std::vector<Eigen::Vector3f>& points, std::vector<char>* persistent,
+              const Occlusion* occlusion = nullptr);
 
   /// Since when the cell holding (x, y) [m] has been occupied without a gap, as of the frames
   /// recorded so far [us]; CellAge::kNever when it is not occupied at `now` [us].
@@ -38,11 +54,25 @@ class StaticPersistence {
 
   void reset();
 
+  /// Cells whose run was carried through a frame by occlusion so far (a counter for the status).
+  int64_t holds() const { return holds_; }
+
  private:
+  /// An occupied cell and the point that last hit it (where the occlusion test looks).
+  struct Live {
+    int slot;
+    int64_t key;
+    Eigen::Vector3f point;
+  };
+  void holdHidden(int64_t utime, const Occlusion& occlusion);
   CellAge cells_;
   int64_t persistence_us_;
+  int64_t max_gap_us_;
   int64_t last_utime_ = INT64_MIN;
   std::vector<int> point_slot_;
+  std::vector<Live> live_;        ///< the cells with a current run (kept only with an occlusion view)
+  std::vector<int> live_index_;   ///< per slot: its entry in live_, -1 = none
+  int64_t holds_ = 0;
 };
 
 }  // namespace perception
