@@ -178,3 +178,24 @@ TEST(CellAge, GivenAHoldThenOnlyTheCellsOwnLiveRunIsCarriedOn) {
   EXPECT_FALSE(cells.hold(-1, key, kT0));
   EXPECT_EQ(cells.occupiedSince(1.05, 1.05, kT0 + 900'000), ucon::CellAge::kNever);
 }
+
+TEST(StaticPersistence, GivenAHiddenCellBeyondTheRangeThenItIsNotHeld) {
+  // The sensor drove away: the cell lies beyond the range the frames keep, so it is not held
+  // however hidden, and its run ends after max_gap.
+  HiddenBox b;
+  StaticPersistence sp(0.2, 0.5, 0.3);
+  std::vector<char> ok;
+  int64_t t = kT0;
+  auto o = b.view(3.0f);
+  for (int k = 0; k < 30; ++k, t += kDt) sp.update(t, {b.face}, &ok, &o);
+  o = b.view(1.0f);
+  o.max_range = 2.5f;  // the face is 3.05 m away
+  for (int k = 0; k < 30; ++k, t += kDt) sp.update(t, {}, &ok, &o);
+  EXPECT_EQ(sp.occupiedSince(b.face.x(), b.face.y(), t), ucon::CellAge::kNever);
+  o.max_range = 15.0f;  // within range the same frames hold it
+  for (int k = 0; k < 30; ++k, t += kDt) sp.update(t, {b.face}, &ok, &o);
+  const int64_t since = sp.occupiedSince(b.face.x(), b.face.y(), t);
+  o = b.view(1.0f);
+  for (int k = 0; k < 30; ++k, t += kDt) sp.update(t, {}, &ok, &o);
+  EXPECT_EQ(sp.occupiedSince(b.face.x(), b.face.y(), t), since);
+}

@@ -250,6 +250,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     hidden.grid = &fine_grid_;
     hidden.nearest = &frame_.nearest_fine;
     hidden.margin = static_cast<float>(params_.segmentation.free_space_margin);
+    hidden.max_range = static_cast<float>(params_.preprocess.max_range);
     const int64_t held = persistence_.holds();
     persistence_.update(utime, frame_.points, &persistent_,
                         params_.segmentation.static_hold_hidden ? &hidden : nullptr);

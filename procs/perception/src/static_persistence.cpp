@@ -65,7 +65,7 @@ void StaticPersistence::holdHidden(int64_t utime, const Occlusion& o) {
       live_.pop_back();
       continue;
     }
-    if (last < utime) {
+    if (last < utime && (l.point.head<2>() - o.origin.head<2>()).squaredNorm() <= o.max_range * o.max_range) {
       const Eigen::Vector3f ray = l.point - o.origin;
       const float range = ray.norm();
       const auto bin = static_cast<std::size_t>(o.grid->bin(ray));

@@ -32,6 +32,10 @@ class StaticPersistence {
     const AngularGrid* grid = nullptr;                 ///< the bins of `nearest`
     const std::vector<float>* nearest = nullptr;       ///< nearest return per bin [m]; inf = none
     float margin = 0.3f;                               ///< [m]
+    /// Cells farther than this from `origin` (x-y) are not held: the frames' points stop there,
+    /// so such a cell is neither seen nor asked about, and it ends after max_gap instead of
+    /// staying in the list (a long drive would otherwise gather every cell it left behind) [m].
+    float max_range = 15.0f;
   };
 
   /// @param cell x-y cell edge [m], > 0
