@@ -253,7 +253,7 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     hidden.max_range = static_cast<float>(params_.preprocess.max_range);
     const int64_t held = persistence_.holds();
     persistence_.update(utime, frame_.points, &persistent_,
-                        params_.segmentation.static_hold_hidden ? &hidden : nullptr);
+                        params_.segmentation.static_hold_hidden ? &hidden : nullptr, &a.tracked_point);
     if (persistence_.holds() > held) status_.count("static_cells_held", persistence_.holds() - held);
     for (std::size_t i = 0; i < frame_.points.size(); ++i)
       if (!persistent_[i]) not_static[i] = 1;

@@ -22,7 +22,8 @@ void StaticPersistence::reset() {
 }
 
 void StaticPersistence::update(int64_t utime, const std::vector<Eigen::Vector3f>& points,
-                               std::vector<char>* persistent, const Occlusion* occlusion) {
+                               std::vector<char>* persistent, const Occlusion* occlusion,
+                               const std::vector<char>* tracked) {
   if (utime < last_utime_) reset();
   last_utime_ = utime;
   persistent->assign(points.size(), 0);
@@ -33,13 +34,17 @@ void StaticPersistence::update(int64_t utime, const std::vector<Eigen::Vector3f>
     const int s = cells_.hit(utime, static_cast<double>(points[i].x()), static_cast<double>(points[i].y()));
     point_slot_[i] = s;
     if (s < 0 || occlusion == nullptr) continue;
+    const bool on_track = tracked != nullptr && i < tracked->size() && (*tracked)[i] != 0;
     int& k = live_index_[static_cast<std::size_t>(s)];
     if (k < 0) {
       k = static_cast<int>(live_.size());
-      live_.push_back({s, cells_.slotKey(s), points[i]});
+      live_.push_back({s, cells_.slotKey(s), points[i], utime, on_track});
     } else {
-      live_[static_cast<std::size_t>(k)].key = cells_.slotKey(s);
-      live_[static_cast<std::size_t>(k)].point = points[i];
+      Live& l = live_[static_cast<std::size_t>(k)];
+      l.tracked = l.hit_utime == utime ? l.tracked && on_track : on_track;
+      l.key = cells_.slotKey(s);
+      l.point = points[i];
+      l.hit_utime = utime;
     }
   }
   if (occlusion != nullptr && occlusion->grid != nullptr && occlusion->nearest != nullptr)
@@ -65,7 +70,7 @@ void StaticPersistence::holdHidden(int64_t utime, const Occlusion& o) {
       live_.pop_back();
       continue;
     }
-    if (last < utime && (l.point.head<2>() - o.origin.head<2>()).squaredNorm() <= o.max_range * o.max_range) {
+    if (last < utime && !l.tracked && (l.point.head<2>() - o.origin.head<2>()).squaredNorm() <= o.max_range * o.max_range) {
       const Eigen::Vector3f ray = l.point - o.origin;
       const float range = ray.norm();
       const auto bin = static_cast<std::size_t>(o.grid->bin(ray));

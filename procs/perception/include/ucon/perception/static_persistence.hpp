@@ -10,7 +10,9 @@
 ///
 /// A cell hidden behind something nearer (a crowd walking in front of a box) is not seen, which
 /// is no evidence that it emptied: with an occlusion view, such a cell keeps its run through
-/// the gap, so the box counts as old structure when it is seen again.
+/// the gap, so the box counts as old structure when it is seen again. Only cells that this
+/// frame's tracks did not take are held: a tracked person hidden while standing may walk off
+/// behind the occluder.
 
 #include <cstdint>
 #include <vector>
@@ -48,9 +50,11 @@ class StaticPersistence {
   /// Records the x-y cells of `points` as hit at `utime` and marks in `persistent` (resized to
   /// points.size()) the points whose cell has been occupied for at least `persistence`.
   /// Frames must come in non-decreasing time; an earlier stamp resets the grid.
-  /// With `occlusion`, every occupied cell this frame did not hit but hid keeps its run.
+  /// With `occlusion`, every occupied cell this frame did not hit but hid keeps its run, unless
+  /// all the points of its last hit were marked in `tracked` (same size as `points`, or null:
+  /// none tracked).
   void update(int64_t utime, const std::vector<Eigen::Vector3f>& points, std::vector<char>* persistent,
-              const Occlusion* occlusion = nullptr);
+              const Occlusion* occlusion = nullptr, const std::vector<char>* tracked = nullptr);
 
   /// Since when the cell holding (x, y) [m] has been occupied without a gap, as of the frames
   /// recorded so far [us]; CellAge::kNever when it is not occupied at `now` [us].
@@ -67,6 +71,8 @@ class StaticPersistence {
     int slot;
     int64_t key;
     Eigen::Vector3f point;
+    int64_t hit_utime;  ///< time of that hit [us]
+    bool tracked;       ///< every point of that hit belonged to a track
   };
   void holdHidden(int64_t utime, const Occlusion& occlusion);
   CellAge cells_;
