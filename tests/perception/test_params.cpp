@@ -47,7 +47,7 @@ std::string shippedText() {
   X(segmentation.view_center_shift) X(segmentation.occlusion_anchor)                               \
   X(segmentation.occlusion_margin) X(segmentation.static_persistence)                              \
   X(segmentation.static_cell) X(segmentation.static_max_gap)                                       \
-  X(segmentation.static_hold_hidden)                                                               \
+  X(segmentation.static_hold_max)                                                                  \
   X(object_association.cost_gate) X(object_association.max_distance)                               \
   X(object_association.distance_growth) X(object_association.max_distance_cap)                     \
   X(object_association.direction_min_speed) X(object_association.fapp_gate)                        \

@@ -920,13 +920,13 @@ TEST(PerceptionNode, GivenTwoPeopleInOneClusterThenEachTrackMeasuresTheHalfNeare
 
 // A box 3 m ahead is hidden for 1.5 s (longer than segmentation.static_max_gap) by someone
 // standing 1.5 m in front of it, then seen again. Hidden is not empty: with
-// segmentation.static_hold_hidden its cells keep their occupancy, so the box is structure again
+// segmentation.static_hold_max its cells keep their occupancy, so the box is structure again
 // in the first frame that sees it (for PERCEPTION_STATIC and the tracks' structure rule);
 // without, its cells start over and it comes back only after static_persistence.
 namespace {
 int boxStaticPointsAfterHiding(bool hold, int frames_after, int64_t* held) {
   PerceptionParams p = testParams();
-  p.segmentation.static_hold_hidden = hold;
+  if (!hold) p.segmentation.static_hold_max = 0.0;
   PerceptionNode node(p);
   scene::Generator gen;
   const scene::Wall box{3.0, -0.4, 3.0, 0.4};

@@ -207,3 +207,29 @@ TEST(StaticPersistence, GivenAHiddenCellBeyondTheRangeThenItIsNotHeld) {
   for (int k = 0; k < 30; ++k, t += kDt) sp.update(t, {}, &ok, &o);
   EXPECT_EQ(sp.occupiedSince(b.face.x(), b.face.y(), t), since);
 }
+
+TEST(StaticPersistence, GivenACellHiddenLongerThanTheHoldThenItStartsOver) {
+  // A place hidden for long (behind a pillar) is unknown, not occupied: the hold lasts at most
+  // max_hidden after the last hit.
+  for (const double max_hidden : {2.0, 1.2}) {
+    HiddenBox b;
+    StaticPersistence sp(0.2, 0.5, 0.3);
+    std::vector<char> ok;
+    int64_t t = kT0;
+    for (int k = 0; k < 30; ++k, t += kDt) {
+      auto o = b.view(3.0f);
+      o.max_hidden = max_hidden;
+      sp.update(t, {b.face}, &ok, &o);
+    }
+    for (int k = 0; k < 75; ++k, t += kDt) {  // hidden 1.5 s
+      auto o = b.view(1.0f);
+      o.max_hidden = max_hidden;
+      sp.update(t, {}, &ok, &o);
+    }
+    auto o = b.view(3.0f);
+    o.max_hidden = max_hidden;
+    sp.update(t, {b.face}, &ok, &o);
+    // Held for 1.2 s it ends 0.3 s (max_gap) later, before the 1.5 s are over.
+    EXPECT_EQ(ok[0] != 0, max_hidden > 1.5) << "max_hidden " << max_hidden;
+  }
+}

@@ -53,7 +53,7 @@ void SegmentationParams::read(ConfigReader& r) {
   r.read("static_persistence", static_persistence, 0.0, 10.0);
   r.read("static_cell", static_cell, 0.02, 2.0);
   r.read("static_max_gap", static_max_gap, 0.01, 10.0);
-  r.read("static_hold_hidden", static_hold_hidden);
+  r.read("static_hold_max", static_hold_max, 0.0, 60.0);
   if (max_cluster_points < min_cluster_points)
     r.fail("max_cluster_points", "must be >= min_cluster_points");
   if (history_max_age - history_min_age < history_chunk)

@@ -251,9 +251,10 @@ PerceptionOutput PerceptionNode::onPoints(const point_cloud_t& cloud) {
     hidden.nearest = &frame_.nearest_fine;
     hidden.margin = static_cast<float>(params_.segmentation.free_space_margin);
     hidden.max_range = static_cast<float>(params_.preprocess.max_range);
+    hidden.max_hidden = params_.segmentation.static_hold_max;
     const int64_t held = persistence_.holds();
     persistence_.update(utime, frame_.points, &persistent_,
-                        params_.segmentation.static_hold_hidden ? &hidden : nullptr, &a.tracked_point);
+                        params_.segmentation.static_hold_max > 0.0 ? &hidden : nullptr, &a.tracked_point);
     if (persistence_.holds() > held) status_.count("static_cells_held", persistence_.holds() - held);
     for (std::size_t i = 0; i < frame_.points.size(); ++i)
       if (!persistent_[i]) not_static[i] = 1;

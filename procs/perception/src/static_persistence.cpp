@@ -70,7 +70,8 @@ void StaticPersistence::holdHidden(int64_t utime, const Occlusion& o) {
       live_.pop_back();
       continue;
     }
-    if (last < utime && !l.tracked && (l.point.head<2>() - o.origin.head<2>()).squaredNorm() <= o.max_range * o.max_range) {
+    if (last < utime && !l.tracked && static_cast<double>(utime - l.hit_utime) <= o.max_hidden * 1e6 &&
+        (l.point.head<2>() - o.origin.head<2>()).squaredNorm() <= o.max_range * o.max_range) {
       const Eigen::Vector3f ray = l.point - o.origin;
       const float range = ray.norm();
       const auto bin = static_cast<std::size_t>(o.grid->bin(ray));

@@ -65,7 +65,7 @@ struct SegmentationParams {
   double static_persistence = 0.5;  ///< a point reaches PERCEPTION_STATIC once its x-y cell has been occupied this long [s]; 0 = off
   double static_cell = 0.2;         ///< x-y cell of the persistence test [m], > 0
   double static_max_gap = 1.0;      ///< a cell not hit for longer than this starts its occupancy over [s], > 0
-  bool static_hold_hidden = true;   ///< a cell hidden behind a return free_space_margin nearer keeps its occupancy through the gap (a crowd walking in front of a box), unless a track took its last hit
+  double static_hold_max = 3.0;     ///< a cell hidden behind a return free_space_margin nearer keeps its occupancy through a gap of up to this since its last hit (a crowd walking in front of a box), unless a track took that hit [s]; 0 = off
   void read(ConfigReader& r);
 };
 

@@ -38,6 +38,9 @@ class StaticPersistence {
     /// so such a cell is neither seen nor asked about, and it ends after max_gap instead of
     /// staying in the list (a long drive would otherwise gather every cell it left behind) [m].
     float max_range = 15.0f;
+    /// A cell is held only this long after its last hit: a place hidden for long (behind a
+    /// pillar) is unknown, not occupied [s].
+    double max_hidden = 3.0;
   };
 
   /// @param cell x-y cell edge [m], > 0
