@@ -10,9 +10,9 @@
 ///
 /// A cell hidden behind something nearer (a crowd walking in front of a box) is not seen, which
 /// is no evidence that it emptied: with an occlusion view, such a cell keeps its run through
-/// the gap, so the box counts as old structure when it is seen again. Only cells that this
-/// frame's tracks did not take are held: a tracked person hidden while standing may walk off
-/// behind the occluder.
+/// the gap, so the box counts as old structure when it is seen again. Not a cell whose last hit
+/// a track took (a tracked person hidden while standing may walk off behind the occluder), and
+/// only for Occlusion::max_hidden after that hit (a place hidden for long is unknown).
 
 #include <cstdint>
 #include <vector>
