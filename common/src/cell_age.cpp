@@ -43,10 +43,15 @@ int CellAge::hit(int64_t utime, double x, double y) {
   return s;
 }
 
-bool CellAge::hold(int slot, int64_t key, int64_t utime) {
+bool CellAge::running(int slot, int64_t key, int64_t now) const {
   if (slot < 0 || static_cast<std::size_t>(slot) >= slots_.size()) return false;
+  const Slot& s = slots_[static_cast<std::size_t>(slot)];
+  return s.key == key && s.first_utime != kNever && now - s.last_utime <= max_gap_us_;
+}
+
+bool CellAge::hold(int slot, int64_t key, int64_t utime) {
+  if (!running(slot, key, utime)) return false;
   Slot& s = slots_[static_cast<std::size_t>(slot)];
-  if (s.key != key || s.first_utime == kNever || utime - s.last_utime > max_gap_us_) return false;
   s.last_utime = std::max(s.last_utime, utime);
   return true;
 }

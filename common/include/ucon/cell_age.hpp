@@ -31,6 +31,9 @@ class CellAge {
   int64_t slotKey(int slot) const { return slots_[static_cast<std::size_t>(slot)].key; }
   /// Time of the last hit (or hold) of a slot returned by hit() [us].
   int64_t slotLast(int slot) const { return slots_[static_cast<std::size_t>(slot)].last_utime; }
+  /// Whether a slot returned by hit() still holds the cell `key` with a run going on at `now`
+  /// [us] (last hit or hold at most max_gap before).
+  bool running(int slot, int64_t key, int64_t now) const;
   /// Carries the current run of a slot on to `utime` [us] without a hit: the cell was hidden
   /// behind something nearer, which is no evidence that it emptied. Returns false and changes
   /// nothing when the slot holds another cell than `key` now or its run has already ended

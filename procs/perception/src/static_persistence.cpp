@@ -9,7 +9,6 @@ namespace perception {
 StaticPersistence::StaticPersistence(double cell, double persistence, double max_gap, int cells_per_side)
     : cells_(cell, max_gap, cells_per_side),
       persistence_us_(static_cast<int64_t>(std::llround(persistence * 1e6))),
-      max_gap_us_(static_cast<int64_t>(std::llround(max_gap * 1e6))),
       live_index_(static_cast<std::size_t>(cells_per_side) * static_cast<std::size_t>(cells_per_side), -1) {
   if (!(persistence >= 0.0)) throw std::invalid_argument("StaticPersistence: persistence must be >= 0");
 }
@@ -59,8 +58,7 @@ void StaticPersistence::holdHidden(int64_t utime, const Occlusion& o) {
   const std::vector<float>& nearest = *o.nearest;
   for (std::size_t k = 0; k < live_.size();) {
     Live& l = live_[k];
-    const int64_t last = cells_.slotLast(l.slot);
-    if (cells_.slotKey(l.slot) != l.key || utime - last > max_gap_us_) {
+    if (!cells_.running(l.slot, l.key, utime)) {
       // The run ended (or another cell took the slot): forget the entry.
       live_index_[static_cast<std::size_t>(l.slot)] = -1;
       if (k + 1 != live_.size()) {
@@ -70,7 +68,7 @@ void StaticPersistence::holdHidden(int64_t utime, const Occlusion& o) {
       live_.pop_back();
       continue;
     }
-    if (last < utime && !l.tracked && static_cast<double>(utime - l.hit_utime) <= o.max_hidden * 1e6 &&
+    if (cells_.slotLast(l.slot) < utime && !l.tracked && static_cast<double>(utime - l.hit_utime) <= o.max_hidden * 1e6 &&
         (l.point.head<2>() - o.origin.head<2>()).squaredNorm() <= o.max_range * o.max_range) {
       const Eigen::Vector3f ray = l.point - o.origin;
       const float range = ray.norm();

@@ -80,7 +80,6 @@ class StaticPersistence {
   void holdHidden(int64_t utime, const Occlusion& occlusion);
   CellAge cells_;
   int64_t persistence_us_;
-  int64_t max_gap_us_;
   int64_t last_utime_ = INT64_MIN;
   std::vector<int> point_slot_;
   std::vector<Live> live_;        ///< the cells with a current run (kept only with an occlusion view)
