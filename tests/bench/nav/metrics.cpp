@@ -132,6 +132,17 @@ void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
     const tracked_object_t* nearest = range <= 10.0 ? nearestTrack(last_objects_, o.x, o.y, &td) : nullptr;
     tracking_.acquisition.step(m.utime, o.id, range <= AcquisitionTally::kRange && o.visible >= kHiddenVisibility,
                                td < AcquisitionTally::kTrackDistance);
+    if (world_ != nullptr && range <= kInsideRange) {
+      if (staticGap(*world_, o.x, o.y, o.radius) < 0.0) inside_static_utime_[o.id] = m.utime;
+      const double rx = o.x - m.robot_x, ry = o.y - m.robot_y;
+      const double closing = -((o.vx - m.robot_vx) * rx + (o.vy - m.robot_vy) * ry) / std::max(range, 1e-6);
+      if (range <= TrackingTally::kCloseRange && closing > TrackingTally::kCloseSpeed) {
+        ++tracking_.close_total;
+        const auto inside = inside_static_utime_.find(o.id);
+        tracking_.close_through_static +=
+            inside != inside_static_utime_.end() && m.utime - inside->second <= TrackingTally::kInsideWindowUs;
+      }
+    }
     if (o.visible < kHiddenVisibility || range > 10.0) continue;  // NaN: not computed, counted
     ++tracking_.recall_total;
     const tracked_object_t* near = td < 0.7 ? nearest : nullptr;
@@ -165,6 +176,7 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
     }
   }
   char buf[256];
+  std::string inside_note;
   if (hit && best < 0.05) {
     // The track nearest to the mover, if any: was it seen, and how well?
     double td = INFINITY;
@@ -180,12 +192,28 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
     history_ = moverHistory(hit->id);
     hit_tracking_ = moverTracking(hit->id);
     hit_mover_ = true;
+    const auto inside = inside_static_utime_.find(hit->id);
+    hit_through_static_ =
+        inside != inside_static_utime_.end() && m.utime - inside->second <= TrackingTally::kInsideWindowUs;
+    if (hit_through_static_) {
+      char b[96];
+      std::snprintf(b, sizeof(b), " [inside a static obstacle %.2f s before]",
+                    1e-6 * static_cast<double>(m.utime - inside->second));
+      inside_note = b;
+    }
   } else {
     std::snprintf(buf, sizeof(buf), "static; %s", last_plan_.c_str());
   }
   collision_with_ = buf;
-  if (hit_mover_) collision_with_ += std::string(" [in the second before: ") + toString(hit_tracking_) + "]";
+  if (hit_mover_) collision_with_ += std::string(" [in the second before: ") + toString(hit_tracking_) + "]" + inside_note;
   robot_speed_at_hit_ = std::hypot(m.robot_vx, m.robot_vy);
+}
+
+double staticGap(const world::World& world, double x, double y, double radius) {
+  double gap = INFINITY;
+  for (std::size_t i = 0; i < world.scenario().statics.size(); ++i)
+    gap = std::min(gap, world.staticFootprintDistance(i, world::Vec2(x, y)) - radius);
+  return gap;
 }
 
 const char* toString(HitTracking h) {
@@ -313,7 +341,10 @@ void Row::add(const RunResult& r) {
     hit_untracked += r.hit_tracking == HitTracking::kUntracked;
     hit_tracked_poorly += r.hit_tracking == HitTracking::kTrackedPoorly;
     hit_tracked_well += r.hit_tracking == HitTracking::kTrackedWell;
+    hit_through_static += r.hit_through_static;
   }
+  close_total += r.close_total;
+  close_through_static += r.close_through_static;
   if (std::isfinite(r.recall)) recall.push_back(r.recall);
   acquire_s.insert(acquire_s.end(), r.acquire_s.begin(), r.acquire_s.end());
   acquire_missed += r.acquire_missed;

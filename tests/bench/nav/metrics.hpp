@@ -20,6 +20,7 @@
 #include "ucon/mot/clear_mot.hpp"
 #include "ucon/sim_ground_truth_t.hpp"
 #include "ucon/tracked_objects_t.hpp"
+#include "ucon/world/world.hpp"
 
 namespace ucon::bench::nav {
 
@@ -75,6 +76,13 @@ struct TrackingTally {
   VelocitySums young;
   static constexpr int kYoungFrames = 15;
   AcquisitionTally acquisition;               ///< movers coming into view within 6 m
+  /// Ground-truth steps of movers within kCloseRange of the robot closing in faster than
+  /// kCloseSpeed, and those of them whose mover was inside a static obstacle within
+  /// kInsideWindowUs before (counted only with a world): how common what the collision report's
+  /// hitThroughStatic() says is, away from collisions.
+  int64_t close_total = 0, close_through_static = 0;
+  static constexpr double kCloseRange = 3.0, kCloseSpeed = 0.5;  ///< [m], [m/s]
+  static constexpr int64_t kInsideWindowUs = 2'000'000;
   double recall() const { return recall_total ? double(recall_hit) / double(recall_total) : NAN; }
   double velocityError() const { return verr_n ? verr_sum / double(verr_n) : NAN; }
   double velocityErrorOverStd() const { return vvar_sum > 0.0 ? std::sqrt(verr2_sum / vvar_sum) : NAN; }
@@ -97,13 +105,21 @@ struct HitSample {
 /// kNone without samples.
 HitTracking classifyHitTracking(const std::vector<HitSample>& samples);
 
+/// The smallest gap [m] between a disc (centre x, y, `radius`) and the footprints of `world`'s
+/// static obstacles (< 0: the disc overlaps one; infinity without static obstacles). The bench
+/// worlds' movers walk through static obstacles (bench_generator.hpp), unseen while inside one.
+double staticGap(const world::World& world, double x, double y, double radius);
+
 /// The mission in the loop: ROBOT_POSE and SIM_GROUND_TRUTH in, NAV_GOAL out (the scenario's
 /// goals in order, re-sent every resend_period_s until reached, as ucon-mission does). Also
 /// tallies the tracking quality and, at the first collision, reports what was hit.
 class MissionAdapter : public rp::NodeAdapter {
  public:
-  MissionAdapter(const mission::MissionParams& p, std::vector<Eigen::Vector2d> goals, double timeout_s)
-      : node_(p, std::move(goals), timeout_s) {}
+  /// `world`: the run's world, for the collision report (whether the mover hit came out of a
+  /// static obstacle); null: not reported. It must outlive the adapter.
+  MissionAdapter(const mission::MissionParams& p, std::vector<Eigen::Vector2d> goals, double timeout_s,
+                 const world::World* world = nullptr)
+      : node_(p, std::move(goals), timeout_s), world_(world) {}
 
   std::string name() const override { return "mission"; }
   std::vector<std::string> inputChannels() const override;
@@ -119,6 +135,9 @@ class MissionAdapter : public rp::NodeAdapter {
   const std::string& history() const { return history_; }
   bool hitMover() const { return hit_mover_; }
   HitTracking hitTracking() const { return hit_tracking_; }
+  /// The mover hit overlapped a static obstacle within the 2 s before the hit
+  /// (TrackingTally::kInsideWindowUs; needs `world`).
+  bool hitThroughStatic() const { return hit_through_static_; }
   double robotSpeedAtHit() const { return robot_speed_at_hit_; }
   bool timedOut() const { return node_.done() && !reached_all_; }
   mission::MissionSummary summary() const { return node_.summary(); }
@@ -141,7 +160,12 @@ class MissionAdapter : public rp::NodeAdapter {
   HitTracking moverTracking(int64_t id) const;
 
   mission::MissionNode node_;
-  bool reached_all_ = false, collided_ = false, hit_mover_ = false;
+  const world::World* world_ = nullptr;
+  /// Per mover within kInsideRange of the robot: the last ground-truth time its body overlapped a
+  /// static obstacle [us] (with a world only).
+  std::map<int64_t, int64_t> inside_static_utime_;
+  static constexpr double kInsideRange = 8.0;  ///< [m]
+  bool reached_all_ = false, collided_ = false, hit_mover_ = false, hit_through_static_ = false;
   HitTracking hit_tracking_ = HitTracking::kNone;
   TrackingTally tracking_;
   mot::ClearMotAccumulator mot_;
@@ -175,6 +199,7 @@ struct RunResult {
   std::string collision_with;  ///< "mover <id> (<speed>)" or "static"; empty if none seen on ground truth
   bool hit_mover = false;
   HitTracking hit_tracking = HitTracking::kNone;  ///< of the mover hit (MissionAdapter::hitTracking())
+  bool hit_through_static = false;  ///< MissionAdapter::hitThroughStatic()
   std::string plan_tally;  ///< " fallbacks k=n ...": the planner's counters of what it did when a plan failed its check
   double robot_speed_at_hit = NAN;
   double dist_start_goal = 0.0, dist_left = 0.0;
@@ -182,6 +207,7 @@ struct RunResult {
   std::map<std::string, int64_t> messages;
   int64_t wheel_cmds_applied = 0;
   int64_t leaked_static = 0, static_points = 0;
+  int64_t close_total = 0, close_through_static = 0;  ///< TrackingTally's
   double velocity_error = NAN;  ///< mean |v_track - v_mover| [m/s] of tracked movers within 5 m of the robot
   double velocity_error_over_std = NAN;  ///< rms of that error / rms of the velocity std the tracks state
   double recall = NAN;  ///< share of visible movers within 10 m with a track within 0.7 m
@@ -209,6 +235,8 @@ struct Row {
   double sim_s = 0.0, wall_s = 0.0, cpu_s = 0.0, wait_s = 0.0;
   int hit_mover = 0, hit_static = 0;
   int hit_hidden = 0, hit_untracked = 0, hit_tracked_poorly = 0, hit_tracked_well = 0;  ///< collisions with movers by HitTracking
+  int hit_through_static = 0;  ///< collisions with movers that were inside a static obstacle within 2 s before
+  int64_t close_total = 0, close_through_static = 0;  ///< every run's TrackingTally counts, summed
   std::vector<double> recall, verr, vcons;  // per run
   VelocitySums young;                       // every run's young tracks, pooled
   std::vector<double> acquire_s;            // every run's acquisition delays, pooled [s]

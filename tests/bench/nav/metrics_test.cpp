@@ -146,6 +146,49 @@ TEST(NavCollisions, GivenTheMoverHitsSamplesThenItIsHiddenUntrackedTrackedPoorly
   EXPECT_EQ(classifyHitTracking({seen, off}), HitTracking::kTrackedPoorly);
 }
 
+// The collision report says whether the mover hit came out of a static obstacle (the bench
+// worlds' movers walk through them) within the 2 s of ground truth kept before the hit.
+TEST(NavCollisions, GivenAMoverThatCameOutOfAStaticObstacleThenTheHitSaysSo) {
+  ucon::world::Scenario sc;
+  ucon::world::StaticObstacle pillar;
+  pillar.center = ucon::world::Vec2(2.0, 0.0);
+  pillar.radius = 0.5;
+  sc.statics.push_back(pillar);
+  const ucon::world::World world(sc);
+  EXPECT_NEAR(ucon::bench::nav::staticGap(world, 1.2, 0.0, 0.25), 0.05, 1e-9);
+  EXPECT_NEAR(ucon::bench::nav::staticGap(world, 2.0, 0.0, 0.25), -0.75, 1e-9);
+  // Mover 1 walks from `x0` to the robot (at the origin) in 1 s, 50 steps, and hits it.
+  const auto run = [](MissionAdapter& a, double x0) {
+    for (int k = 0; k <= 50; ++k) {
+      auto g = groundTruth(1'000'000 + k * 20'000, {{1, x0 + (0.28 - x0) * k / 50.0}});
+      g.objects[0].vx = 0.28 - x0;  // [m/s]: closing in on the robot
+      g.collision = k == 50;
+      feed(a, ucon::channels::kSimGroundTruth, encode(g));
+    }
+  };
+  MissionAdapter out_of_it(ucon::mission::MissionParams{}, {Eigen::Vector2d(30.0, 0.0)}, 60.0, &world);
+  run(out_of_it, 2.0);  // starts inside the pillar; its body is last on the footprint at step 21 (x > 1.25)
+  ASSERT_TRUE(out_of_it.collided());
+  EXPECT_TRUE(out_of_it.hitMover());
+  EXPECT_TRUE(out_of_it.hitThroughStatic());
+  EXPECT_NE(out_of_it.collisionWith().find("inside a static obstacle 0.58 s before"), std::string::npos)
+      << out_of_it.collisionWith();
+  // Every step was a close encounter (within 3 m, closing), each within 2 s of the pillar.
+  EXPECT_EQ(out_of_it.tracking().close_total, 51);
+  EXPECT_EQ(out_of_it.tracking().close_through_static, 51);
+  MissionAdapter beside_it(ucon::mission::MissionParams{}, {Eigen::Vector2d(30.0, 0.0)}, 60.0, &world);
+  run(beside_it, 1.2);  // starts 5 cm off the pillar
+  ASSERT_TRUE(beside_it.collided());
+  EXPECT_FALSE(beside_it.hitThroughStatic());
+  EXPECT_EQ(beside_it.collisionWith().find("inside a static obstacle"), std::string::npos);
+  EXPECT_EQ(beside_it.tracking().close_total, 51);
+  EXPECT_EQ(beside_it.tracking().close_through_static, 0);
+  MissionAdapter no_world(ucon::mission::MissionParams{}, {Eigen::Vector2d(30.0, 0.0)}, 60.0);
+  run(no_world, 2.0);
+  EXPECT_FALSE(no_world.hitThroughStatic());
+  EXPECT_EQ(no_world.tracking().close_total, 0);  // not counted without a world
+}
+
 TEST(NavAcquisition, GivenMoversComingIntoViewThenTheDelayToTheirFirstTrackIsRecordedOrTheMiss) {
   ucon::bench::nav::AcquisitionTally a;
   // Mover 1 comes into view untracked at 1.0 s and is tracked at 1.3 s: one delay of 0.3 s.

@@ -11,6 +11,7 @@
 #include "ucon/replay/sim_recorder.hpp"
 #include "ucon/runtime/config_file.hpp"
 #include "ucon/simulator/scenario_loader.hpp"
+#include "ucon/world/world.hpp"
 
 namespace ucon::bench::nav {
 
@@ -61,7 +62,8 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
     }
     stage_nodes.push_back(node);
   }
-  MissionAdapter mission(setup.mission, sc->robot.goals, timeout_s);
+  const world::World statics_world(*sc);  // the collision report's static obstacles
+  MissionAdapter mission(setup.mission, sc->robot.goals, timeout_s, &statics_world);
 
   // Mission first: a pose that reaches a goal updates it before the planner sees the pose.
   std::vector<rp::NodeAdapter*> loop{&mission};
@@ -160,6 +162,9 @@ RunResult runOne(const Setup& setup, int n_dynamic, uint64_t seed, double timeou
   res.collision_with = mission.collisionWith() + mission.history();
   res.hit_mover = mission.hitMover();
   res.hit_tracking = mission.hitTracking();
+  res.hit_through_static = mission.hitThroughStatic();
+  res.close_total = mission.tracking().close_total;
+  res.close_through_static = mission.tracking().close_through_static;
   res.plan_tally = planTally(stage_nodes[1]->counters());
   res.robot_speed_at_hit = mission.robotSpeedAtHit();
   res.ok = true;
