@@ -138,9 +138,7 @@ void MissionAdapter::tallyTracking(const sim_ground_truth_t& m) {
       const double closing = -((o.vx - m.robot_vx) * rx + (o.vy - m.robot_vy) * ry) / std::max(range, 1e-6);
       if (range <= TrackingTally::kCloseRange && closing > TrackingTally::kCloseSpeed) {
         ++tracking_.close_total;
-        const auto inside = inside_static_utime_.find(o.id);
-        tracking_.close_through_static +=
-            inside != inside_static_utime_.end() && m.utime - inside->second <= TrackingTally::kInsideWindowUs;
+        tracking_.close_through_static += insideStaticWithin(o.id, m.utime) ? 1 : 0;
       }
     }
     if (o.visible < kHiddenVisibility || range > 10.0) continue;  // NaN: not computed, counted
@@ -192,13 +190,11 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
     history_ = moverHistory(hit->id);
     hit_tracking_ = moverTracking(hit->id);
     hit_mover_ = true;
-    const auto inside = inside_static_utime_.find(hit->id);
-    hit_through_static_ =
-        inside != inside_static_utime_.end() && m.utime - inside->second <= TrackingTally::kInsideWindowUs;
+    hit_through_static_ = insideStaticWithin(hit->id, m.utime);
     if (hit_through_static_) {
       char b[96];
       std::snprintf(b, sizeof(b), " [inside a static obstacle %.2f s before]",
-                    1e-6 * static_cast<double>(m.utime - inside->second));
+                    1e-6 * static_cast<double>(m.utime - inside_static_utime_.at(hit->id)));
       inside_note = b;
     }
   } else {
@@ -207,6 +203,11 @@ void MissionAdapter::reportCollision(const sim_ground_truth_t& m) {
   collision_with_ = buf;
   if (hit_mover_) collision_with_ += std::string(" [in the second before: ") + toString(hit_tracking_) + "]" + inside_note;
   robot_speed_at_hit_ = std::hypot(m.robot_vx, m.robot_vy);
+}
+
+bool MissionAdapter::insideStaticWithin(int64_t id, int64_t now) const {
+  const auto it = inside_static_utime_.find(id);
+  return it != inside_static_utime_.end() && now - it->second <= TrackingTally::kInsideWindowUs;
 }
 
 double staticGap(const world::World& world, double x, double y, double radius) {

@@ -159,6 +159,10 @@ class MissionAdapter : public rp::NodeAdapter {
   /// The mover's nearest track over the snapshots 1.0-0.3 s before the last one.
   HitTracking moverTracking(int64_t id) const;
 
+  /// Whether mover `id` overlapped a static obstacle within TrackingTally::kInsideWindowUs
+  /// before `now` [us] (as recorded by tallyTracking()).
+  bool insideStaticWithin(int64_t id, int64_t now) const;
+
   mission::MissionNode node_;
   const world::World* world_ = nullptr;
   /// Per mover within kInsideRange of the robot: the last ground-truth time its body overlapped a
