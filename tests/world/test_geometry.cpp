@@ -166,6 +166,13 @@ TEST(Contact, GivenADiskThenClearanceIsTheSurfaceGapAndCollisionIsItsSign) {
   EXPECT_EQ(c.kind, HitKind::kMoving);
   EXPECT_NEAR(c.clearance, -0.1, 1e-12);
   EXPECT_TRUE(c.collision());
+  // The static obstacles alone: beside the mover, the nearest is the cylinder 8 m away.
+  c = w.staticContact(Vec2(0, 9.3), 0.3);
+  EXPECT_EQ(c.kind, HitKind::kStatic);
+  EXPECT_EQ(c.index, 0);
+  EXPECT_NEAR(c.clearance, 9.3 - 1.0 - 0.3, 1e-12);
+  EXPECT_TRUE(std::isnan(w.staticContact(Vec2(std::nan(""), 0), 0.3).clearance));
+  EXPECT_EQ(World(emptyWorld()).staticContact(Vec2(0, 0), 0.3).kind, HitKind::kNone);
 }
 
 TEST(SurfaceDistance, GivenPointsAroundAPrismThenDistancesAreExact) {

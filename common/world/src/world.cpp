@@ -565,7 +565,7 @@ bool World::segmentHitsStatic(std::size_t i, const Vec2& a, const Vec2& b) const
   return rayStatic(i, o, d, &t, &n) && t <= len;
 }
 
-Contact World::diskContact(const Vec2& center, double radius) const {
+Contact World::staticContact(const Vec2& center, double radius) const {
   Contact best;
   if (!center.allFinite() || !std::isfinite(radius)) {
     best.clearance = std::numeric_limits<double>::quiet_NaN();
@@ -579,6 +579,12 @@ Contact World::diskContact(const Vec2& center, double radius) const {
       best.index = static_cast<int>(i);
     }
   }
+  return best;
+}
+
+Contact World::diskContact(const Vec2& center, double radius) const {
+  Contact best = staticContact(center, radius);
+  if (std::isnan(best.clearance)) return best;
   for (std::size_t i = 0; i < states_.size(); ++i) {
     const double g = (center - states_[i].position).norm() - states_[i].radius - radius;
     if (g < best.clearance) {

@@ -211,10 +211,7 @@ bool MissionAdapter::insideStaticWithin(int64_t id, int64_t now) const {
 }
 
 double staticGap(const world::World& world, double x, double y, double radius) {
-  double gap = INFINITY;
-  for (std::size_t i = 0; i < world.scenario().statics.size(); ++i)
-    gap = std::min(gap, world.staticFootprintDistance(i, world::Vec2(x, y)) - radius);
-  return gap;
+  return world.staticContact(world::Vec2(x, y), radius).clearance;
 }
 
 const char* toString(HitTracking h) {

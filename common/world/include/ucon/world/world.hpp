@@ -103,6 +103,10 @@ class World {
   /// input gives a NaN clearance (collision() false) and kind kNone.
   Contact diskContact(const Vec2& center, double radius) const;
 
+  /// diskContact() against the static obstacles only (they do not depend on time()): kind
+  /// kStatic with the nearest one's index, or infinity and kNone without static obstacles.
+  Contact staticContact(const Vec2& center, double radius) const;
+
   /// Distance from point `p` to the nearest surface (obstacle or ground) at time(), capped at
   /// `cap` [m] (obstacles farther than `cap` in the plane are not examined). NaN for a
   /// non-finite point.
