@@ -956,3 +956,46 @@ TEST(PerceptionNode, GivenABoxHiddenLongerThanTheGapThenItIsStructureAgainAsSoon
   EXPECT_GT(held_on, 0);
   EXPECT_EQ(held_off, 0);
 }
+
+namespace {
+
+// A person walking at 1.2 m/s along y = -2 passes behind a board (y = -1, the whole time)
+// and is hidden for 1.7 s (longer than tracks.max_coast: its track ends), then seen again
+// where it walked on to. Returns the x-y velocity of the first new track near the person after
+// its return, in the frame that track started; NaN when none.
+Eigen::Vector2d velocityOfReturningTrack(const PerceptionParams& params) {
+  PerceptionNode node(params);
+  const scene::Person p{-3.0, -2.0, 1.2, 0.0};
+  scene::Generator gen;
+  std::vector<scene::Wall> walls = kWalls;
+  walls.push_back({-0.35, -1.0, 0.75, -1.0, 0.04, 0.04});
+  std::set<int64_t> before;
+  for (int k = 0; k < 260; ++k) {
+    node.onPose(scene::pose(scene::frameTime(k)));
+    const double t = k * 0.02;
+    const bool hidden = k >= 100 && k < 185;  // x from -0.6 to 1.44 m: behind the board
+    auto out = node.onPoints(gen.frame(k, hidden ? std::vector<scene::Person>{} : std::vector<scene::Person>{p}, walls));
+    if (!out.objects) return Eigen::Vector2d::Constant(NAN);
+    for (const auto& o : out.objects->objects) {
+      if (k < 100) before.insert(o.id);
+      if (k >= 185 && !before.count(o.id) && std::hypot(o.x - p.x(t), o.y - p.y(t)) < 0.6) return {o.vx, o.vy};
+    }
+  }
+  return Eigen::Vector2d::Constant(NAN);
+}
+
+}  // namespace
+
+TEST(PerceptionNode, GivenAPersonBackFromHidingThenItsNewTrackStartsWithTheVelocityItHad) {
+  PerceptionParams on = testParams();
+  on.tracks.reid_velocity = true;
+  PerceptionParams off = testParams();
+  off.tracks.reid_velocity = false;
+  const Eigen::Vector2d with = velocityOfReturningTrack(on);
+  const Eigen::Vector2d without = velocityOfReturningTrack(off);
+  ASSERT_TRUE(with.allFinite());
+  ASSERT_TRUE(without.allFinite());
+  EXPECT_NEAR(with.x(), 1.2, 0.3);
+  EXPECT_NEAR(with.y(), 0.0, 0.3);
+  EXPECT_LT(without.norm(), 0.1);  // at rest until measured
+}

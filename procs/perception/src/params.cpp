@@ -108,6 +108,7 @@ void TrackParams::read(ConfigReader& r) {
   r.read("reid_window", reid_window, 0.0, 60.0);
   r.read("reid_cross_speed", reid_cross_speed, 0.0, 20.0);
   r.read("reid_confirm", reid_confirm);
+  r.read("reid_velocity", reid_velocity);
   r.read("merge_margin", merge_margin, 0.0, 10.0);
   r.read("tentative_max_age", tentative_max_age, 0.01, 100.0);
   r.read("tentative_max_misses", tentative_max_misses, 1, 1000);

@@ -75,7 +75,7 @@ PerceptionNode::PerceptionNode(const PerceptionParams& params, Stopwatch stopwat
                         "tracks_created", "tracks_confirmed", "tracks_deleted", "reassociations",
                         "kalman_errors", "invalid_outputs", "reidentifications", "moving_parts_split",
                         "views_anchored", "velocity_registered", "structure_declined", "clusters_split",
-                        "static_cells_held"})
+                        "static_cells_held", "tracks_started_returning"})
     status_.count(c, 0);
 }
 

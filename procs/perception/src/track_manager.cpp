@@ -170,6 +170,22 @@ void TrackManager::reidCandidate(const Track& fresh, Track** coasting, const Los
   }
 }
 
+Eigen::Vector3d TrackManager::returningVelocity(const Track& fresh) {
+  // The object a coasting or recently deleted track lost, back where it would be had it kept
+  // its velocity: the new track starts with that velocity (its initial uncertainty stays).
+  Track* coasting = nullptr;
+  const Lost* lost = nullptr;
+  reidCandidate(fresh, &coasting, &lost);
+  if (!coasting && !lost) return Eigen::Vector3d::Zero();
+  const Eigen::Vector2d last = coasting ? Eigen::Vector2d(coasting->measured.back().center.head<2>()) : lost->last_center;
+  const Eigen::Vector2d v = coasting ? coasting->seen_velocity : lost->seen_velocity;
+  const int64_t seen = coasting ? coasting->last_seen_utime : lost->last_seen_utime;
+  const double dt = seconds(fresh.created_utime - seen);
+  const Eigen::Vector2d predicted = last + v * dt;
+  if ((fresh.first_center - predicted).norm() > params_.reid_margin + 0.25 * v.norm() * dt) return Eigen::Vector3d::Zero();
+  return Eigen::Vector3d(v.x(), v.y(), 0.0);
+}
+
 void TrackManager::reidentify(Track& fresh, Track* best, const Lost* best_lost, StatusReport& status) {
   // The newly confirmed track takes over the identity of the object it is (reidCandidate()),
   // and a coasting track of that object ends.
@@ -306,10 +322,6 @@ bool TrackManager::start(const Measurement& m, int64_t utime, StatusReport& stat
   tr.id = next_id_++;
   tr.state = TO::STATE_TENTATIVE;
   tr.created_utime = utime;
-  if (tr.kf.init(m.center, Eigen::Vector3d::Zero()) != kalman::KalmanStatus::kOk) {
-    status.count("kalman_errors");
-    return false;
-  }
   tr.size = m.box.size;
   tr.width = m.width;
   tr.size_z = m.size_z;
@@ -324,6 +336,12 @@ bool TrackManager::start(const Measurement& m, int64_t utime, StatusReport& stat
   tr.arrival_utime = utime;
   tr.num_points = static_cast<int>(m.points.size());
   tr.last_association = TO::ASSOC_NEW;
+  const Eigen::Vector3d v0 = params_.reid_velocity ? returningVelocity(tr) : Eigen::Vector3d::Zero();
+  if (tr.kf.init(m.center, v0) != kalman::KalmanStatus::kOk) {
+    status.count("kalman_errors");
+    return false;
+  }
+  if (!v0.isZero()) status.count("tracks_started_returning");
   tracks_.push_back(std::move(tr));
   status.count("tracks_created");
   return true;

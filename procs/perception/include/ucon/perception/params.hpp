@@ -118,6 +118,7 @@ struct TrackParams {
   double reid_speed = 1.8;          ///< a track confirmed within reid_speed * t + reid_margin of where a coasting track was last seen t ago takes over its identity [m/s]; 0 = off
   double reid_margin = 0.5;         ///< [m]
   double reid_window = 8.0;         ///< deleted confirmed tracks stay candidates for re-identification this long [s]
+  bool reid_velocity = true;        ///< a new track where a coasting or recently deleted track's object would be now, had it kept its velocity, starts with that velocity instead of at rest (an object back from behind a pillar walks on)
   bool reid_confirm = true;         ///< a tentative track within the gate of a coasting or recently deleted track (a returning object) is confirmed on confirm_hits and confirm_moving_hits alone, without the speed and distance tests
   double reid_cross_speed = 0.1;    ///< candidates are ranked with reid_speed along and this across their last heading [m/s]; 0 = by plain distance
   double merge_margin = 0.3;        ///< a matched cluster larger than the track's box by this is a merge [m]

@@ -117,6 +117,10 @@ class TrackManager {
   /// The coasting track (`*coasting`) or recently deleted one (`*lost`) whose object `fresh`
   /// is, by the re-identification gate and score; both null when none (or reid_speed is 0).
   void reidCandidate(const Track& fresh, Track** coasting, const Lost** lost);
+  /// tracks.reid_velocity: the velocity a new track `fresh` starts with, that of the object
+  /// reidCandidate() finds when `fresh` lies where it would be had it kept that velocity;
+  /// zero otherwise.
+  Eigen::Vector3d returningVelocity(const Track& fresh);
   /// `fresh`, just confirmed, takes over the identity of reidCandidate()'s answer for it.
   void reidentify(Track& fresh, Track* coasting, const Lost* lost, StatusReport& status);
   bool seenThrough(const Track& t, const Frame& frame) const;
