@@ -63,7 +63,8 @@ std::string shippedText() {
   X(tracks.structure_share) X(tracks.structure_margin) X(tracks.structure_frames)                  \
   X(tracks.structure_arrival_distance) X(tracks.structure_decline)                                                             \
   X(tracks.new_track_separation) X(tracks.reid_speed) X(tracks.reid_margin) X(tracks.reid_window)  \
-  X(tracks.reid_cross_speed) X(tracks.reid_confirm) X(tracks.reid_velocity) X(tracks.merge_margin) X(tracks.tentative_max_age)                    \
+  X(tracks.reid_cross_speed) X(tracks.reid_confirm) X(tracks.reid_velocity) X(tracks.merge_margin)  \
+  X(tracks.tentative_max_age)                                                                      \
   X(tracks.tentative_max_misses) X(tracks.max_coast) X(tracks.coast_velocity_decay)                \
   X(tracks.free_bin_deg) X(tracks.free_margin) X(tracks.free_frames) X(tracks.velocity_baseline)   \
   X(tracks.registration_velocity) X(tracks.size_smoothing)                                         \

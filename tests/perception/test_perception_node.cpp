@@ -961,11 +961,13 @@ namespace {
 
 // A person walking at 1.2 m/s along y = -2 passes behind a board (y = -1, the whole time)
 // and is hidden for 1.7 s (longer than tracks.max_coast: its track ends), then seen again
-// where it walked on to. Returns the x-y velocity of the first new track near the person after
-// its return, in the frame that track started; NaN when none.
-Eigen::Vector2d velocityOfReturningTrack(const PerceptionParams& params) {
+// where it walked on to, or (`turned_back`) 0.3 m short of where it was hidden, walking back.
+// Returns the x-y velocity of the first new track near the person after its return, in the
+// frame that track started; NaN when none.
+Eigen::Vector2d velocityOfReturningTrack(const PerceptionParams& params, bool turned_back) {
   PerceptionNode node(params);
-  const scene::Person p{-3.0, -2.0, 1.2, 0.0};
+  const scene::Person on{-3.0, -2.0, 1.2, 0.0};
+  const scene::Person back{3.54, -2.0, -1.2, 0.0};  // at x = -0.9 at frame 185, walking back
   scene::Generator gen;
   std::vector<scene::Wall> walls = kWalls;
   walls.push_back({-0.35, -1.0, 0.75, -1.0, 0.04, 0.04});
@@ -974,6 +976,7 @@ Eigen::Vector2d velocityOfReturningTrack(const PerceptionParams& params) {
     node.onPose(scene::pose(scene::frameTime(k)));
     const double t = k * 0.02;
     const bool hidden = k >= 100 && k < 185;  // x from -0.6 to 1.44 m: behind the board
+    const scene::Person& p = k >= 185 && turned_back ? back : on;
     auto out = node.onPoints(gen.frame(k, hidden ? std::vector<scene::Person>{} : std::vector<scene::Person>{p}, walls));
     if (!out.objects) return Eigen::Vector2d::Constant(NAN);
     for (const auto& o : out.objects->objects) {
@@ -986,16 +989,25 @@ Eigen::Vector2d velocityOfReturningTrack(const PerceptionParams& params) {
 
 }  // namespace
 
-TEST(PerceptionNode, GivenAPersonBackFromHidingThenItsNewTrackStartsWithTheVelocityItHad) {
+TEST(PerceptionNode, GivenAPersonBackFromHidingWhereItsVelocityLedThenItsNewTrackStartsWithThatVelocity) {
   PerceptionParams on = testParams();
   on.tracks.reid_velocity = true;
   PerceptionParams off = testParams();
   off.tracks.reid_velocity = false;
-  const Eigen::Vector2d with = velocityOfReturningTrack(on);
-  const Eigen::Vector2d without = velocityOfReturningTrack(off);
+  const Eigen::Vector2d with = velocityOfReturningTrack(on, false);
+  const Eigen::Vector2d without = velocityOfReturningTrack(off, false);
   ASSERT_TRUE(with.allFinite());
   ASSERT_TRUE(without.allFinite());
   EXPECT_NEAR(with.x(), 1.2, 0.3);
   EXPECT_NEAR(with.y(), 0.0, 0.3);
   EXPECT_LT(without.norm(), 0.1);  // at rest until measured
+}
+
+TEST(PerceptionNode, GivenAPersonBackFromHidingElsewhereThenItsNewTrackStartsAtRest) {
+  // It turned back while hidden: not where its old velocity led, so that velocity is no prior.
+  PerceptionParams on = testParams();
+  on.tracks.reid_velocity = true;
+  const Eigen::Vector2d v = velocityOfReturningTrack(on, true);
+  ASSERT_TRUE(v.allFinite());
+  EXPECT_LT(v.norm(), 0.1);
 }

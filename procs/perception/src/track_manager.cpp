@@ -179,6 +179,7 @@ Eigen::Vector3d TrackManager::returningVelocity(const Track& fresh) {
   if (!coasting && !lost) return Eigen::Vector3d::Zero();
   const Eigen::Vector2d last = coasting ? Eigen::Vector2d(coasting->measured.back().center.head<2>()) : lost->last_center;
   const Eigen::Vector2d v = coasting ? coasting->seen_velocity : lost->seen_velocity;
+  if (!v.allFinite()) return Eigen::Vector3d::Zero();
   const int64_t seen = coasting ? coasting->last_seen_utime : lost->last_seen_utime;
   const double dt = seconds(fresh.created_utime - seen);
   const Eigen::Vector2d predicted = last + v * dt;
