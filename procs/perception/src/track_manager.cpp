@@ -170,6 +170,10 @@ void TrackManager::reidCandidate(const Track& fresh, Track** coasting, const Los
   }
 }
 
+TrackManager::Lost TrackManager::lostRecord(const Track& t) {
+  return {t.id, t.age_frames, t.measured.back().center.head<2>(), t.seen_velocity, t.last_seen_utime};
+}
+
 Eigen::Vector3d TrackManager::returningVelocity(const Track& fresh) {
   // The object a coasting or recently deleted track lost, back where it would be had it kept
   // its velocity: the new track starts with that velocity (its initial uncertainty stays).
@@ -177,12 +181,11 @@ Eigen::Vector3d TrackManager::returningVelocity(const Track& fresh) {
   const Lost* lost = nullptr;
   reidCandidate(fresh, &coasting, &lost);
   if (!coasting && !lost) return Eigen::Vector3d::Zero();
-  const Eigen::Vector2d last = coasting ? Eigen::Vector2d(coasting->measured.back().center.head<2>()) : lost->last_center;
-  const Eigen::Vector2d v = coasting ? coasting->seen_velocity : lost->seen_velocity;
+  const Lost was = coasting ? lostRecord(*coasting) : *lost;
+  const Eigen::Vector2d& v = was.seen_velocity;
   if (!v.allFinite()) return Eigen::Vector3d::Zero();
-  const int64_t seen = coasting ? coasting->last_seen_utime : lost->last_seen_utime;
-  const double dt = seconds(fresh.created_utime - seen);
-  const Eigen::Vector2d predicted = last + v * dt;
+  const double dt = seconds(fresh.created_utime - was.last_seen_utime);
+  const Eigen::Vector2d predicted = was.last_center + v * dt;
   if ((fresh.first_center - predicted).norm() > params_.reid_margin + 0.25 * v.norm() * dt) return Eigen::Vector3d::Zero();
   return Eigen::Vector3d(v.x(), v.y(), 0.0);
 }
@@ -299,7 +302,7 @@ void TrackManager::manage(int64_t utime, const std::vector<char>& updated, const
   // Deleted confirmed tracks are remembered for re-identification for a while.
   for (const auto& tr : tracks_) {
     if (tr.state != TO::STATE_DELETED || tr.reidentified || tr.confirmed_once == false || tr.measured.empty()) continue;
-    lost_.push_back({tr.id, tr.age_frames, tr.measured.back().center.head<2>(), tr.seen_velocity, tr.last_seen_utime});
+    lost_.push_back(lostRecord(tr));
   }
   while (!lost_.empty() && seconds(utime - lost_.front().last_seen_utime) > p.reid_window) lost_.pop_front();
   const auto before = tracks_.size();

@@ -114,6 +114,8 @@ class TrackManager {
     Eigen::Vector2d seen_velocity = Eigen::Vector2d::Zero();
     int64_t last_seen_utime = 0;
   };
+  /// A deleted (or coasting) track as re-identification remembers it.
+  static Lost lostRecord(const Track& t);
   /// The coasting track (`*coasting`) or recently deleted one (`*lost`) whose object `fresh`
   /// is, by the re-identification gate and score; both null when none (or reid_speed is 0).
   void reidCandidate(const Track& fresh, Track** coasting, const Lost** lost);
