@@ -328,17 +328,19 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
 
   std::printf("\nwhat the sensor allowed, all seeds (object-frames of the scored movers with >= %d returns in the "
               "node's frames / >= %d / so within the method's coast time before / so at any time before: the plain "
-              "MOTA cannot exceed the last):\n",
+              "MOTA cannot exceed this / predictable: visible, or where its last view, known exactly, puts it at its "
+              "velocity then or at rest, within the match distance):\n",
               o.score.min_visible_points, ucon::bench::kWellSeenPoints);
   std::map<std::pair<std::string, std::string>, ucon::bench::MethodScore::SensorShare> ss;
   for (const auto& r : rows) ss[{r.scene, r.score.method}] += r.score.sensor;
   for (const auto& [key, e] : ss) {
     const double n = e.objects > 0 ? static_cast<double>(e.objects) : NAN;
     std::printf("  %-12s %-14s %8lld object-frames: visible %5.1f %%, well seen %5.1f %%, held %5.1f %%, seen before "
-                "%5.1f %%\n",
+                "%5.1f %%, predictable %5.1f %%\n",
                 key.first.c_str(), key.second.c_str(), static_cast<long long>(e.objects),
                 100 * static_cast<double>(e.visible) / n, 100 * static_cast<double>(e.well_seen) / n,
-                100 * static_cast<double>(e.held) / n, 100 * static_cast<double>(e.seen) / n);
+                100 * static_cast<double>(e.held) / n, 100 * static_cast<double>(e.seen) / n,
+                100 * static_cast<double>(e.predictable) / n);
   }
 
   if (!o.json.empty()) {
@@ -429,7 +431,7 @@ int runDrive(const DriveOptions& o, const ucon::simulator::SimulatorParams& sim_
       js << "}";
       const auto& sh = r.score.sensor;
       js << ", \"sensor\": {\"objects\": " << sh.objects << ", \"visible\": " << sh.visible
-         << ", \"well_seen\": " << sh.well_seen << ", \"held\": " << sh.held << ", \"seen\": " << sh.seen << "}";
+         << ", \"well_seen\": " << sh.well_seen << ", \"held\": " << sh.held << ", \"seen\": " << sh.seen << ", \"predictable\": " << sh.predictable << "}";
       js << ", \"fp_top_statics\": [";
       for (std::size_t j = 0; j < r.top_statics.size(); ++j) js << (j ? ", " : "") << "\"" << r.top_statics[j] << "\"";
       js << "], \"fp_by_motion\": {\"speed_bins\": [\"v<0.1\", \"v<0.75\", \"v>=0.75\"], \"yaw_rate_bins\": "

@@ -454,7 +454,12 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
     std::vector<double> static_fp_age, static_fp_speed;
     int64_t static_fp_coasting = 0;
     int64_t coast_us = 0;                   ///< the method's max_coast
-    std::map<int64_t, int64_t> last_seen;  ///< mover id -> utime of its last output with enough returns
+    /// A mover's last output with enough returns: its time and true position and velocity.
+    struct LastView {
+      int64_t utime = 0;
+      double x = 0.0, y = 0.0, vx = 0.0, vy = 0.0;
+    };
+    std::map<int64_t, LastView> last_seen;  ///< by mover id
   };
   std::vector<Run> runs(methods.size());
   for (std::size_t k = 0; k < methods.size(); ++k) {
@@ -503,12 +508,20 @@ std::vector<MethodScore> scoreRecording(const Recording& rec, const std::vector<
         ++sh.objects;
         const auto last = r.last_seen.find(gt_now[i].id);
         if (!hidden[i]) {
-          ++sh.visible, ++sh.held, ++sh.seen;
+          ++sh.visible, ++sh.held, ++sh.seen, ++sh.predictable;
           sh.well_seen += k >= kWellSeenPoints;
-          r.last_seen[gt_now[i].id] = objs.utime;
+          Run::LastView& v = r.last_seen[gt_now[i].id];
+          v = {objs.utime, gt_now[i].x, gt_now[i].y, 0.0, 0.0};
+          for (const auto& o : g->objects)
+            if (o.id == gt_now[i].id && std::isfinite(o.vx) && std::isfinite(o.vy)) v.vx = o.vx, v.vy = o.vy;
         } else if (last != r.last_seen.end()) {
+          const Run::LastView& v = last->second;
           ++sh.seen;
-          sh.held += objs.utime - last->second <= r.coast_us;
+          sh.held += objs.utime - v.utime <= r.coast_us;
+          const double dt = 1e-6 * static_cast<double>(objs.utime - v.utime);
+          const double at_rest = std::hypot(gt_now[i].x - v.x, gt_now[i].y - v.y);
+          const double walked_on = std::hypot(gt_now[i].x - v.x - v.vx * dt, gt_now[i].y - v.y - v.vy * dt);
+          sh.predictable += std::min(at_rest, walked_on) <= eval.threshold_m;
         }
       }
       const auto fa = r.all.updateXY(gt_now, hyps, eval.threshold_m);

@@ -220,11 +220,16 @@ struct MethodScore {
   /// that output or in one at most the method's max_coast before it (`held`: what a tracker
   /// that coasts as long as this one can hold at best), and in that output or any earlier one
   /// (`seen`). A tracker knows nothing of a mover it has never seen, so the plain MOTA cannot
-  /// exceed seen / objects, whatever the method.
+  /// exceed seen / objects, whatever the method. `predictable`: visible, or seen before and
+  /// within the match distance of where its last view puts it now, at that view's true
+  /// velocity or at rest (the better of the two): what a tracker that knew each mover exactly
+  /// when it last saw it, and kept hidden ones at constant velocity or in place for as long as
+  /// needed, could match at best.
   struct SensorShare {
-    int64_t objects = 0, visible = 0, well_seen = 0, held = 0, seen = 0;
+    int64_t objects = 0, visible = 0, well_seen = 0, held = 0, seen = 0, predictable = 0;
     SensorShare& operator+=(const SensorShare& o) {
       objects += o.objects, visible += o.visible, well_seen += o.well_seen, held += o.held, seen += o.seen;
+      predictable += o.predictable;
       return *this;
     }
   } sensor;

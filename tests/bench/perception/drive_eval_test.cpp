@@ -59,6 +59,15 @@ struct P {
   int32_t t_ns = 0;
 };
 
+/// A 6 m wall 6 m behind a parked robot at the origin: structure in every frame, so the node
+/// has a scene to segment.
+std::vector<P> wallBehind() {
+  std::vector<P> wall;
+  for (int i = 0; i < 60; ++i)
+    for (int k = 0; k < 5; ++k) wall.push_back({-6.0f, -3.0f + 0.1f * i, 0.3f + 0.3f * k});
+  return wall;
+}
+
 ucon::point_cloud_t cloud(int64_t utime, int64_t seq, const std::vector<P>& pts) {
   ucon::point_cloud_t c{};
   c.utime = utime;
@@ -175,9 +184,7 @@ TEST(DriveScoring, GivenAMoverTheSensorNeverSeesWhenScoredThenItIsAMissOnlyWitho
   // on it (hidden). Perception cannot see it: the plain score counts a miss per frame, the
   // visibility-aware one does not score it at all.
   ucon::bench::Recording rec;
-  std::vector<P> wall;
-  for (int i = 0; i < 60; ++i)
-    for (int k = 0; k < 5; ++k) wall.push_back({-6.0f, -3.0f + 0.1f * i, 0.3f + 0.3f * k});
+  const std::vector<P> wall = wallBehind();
   for (int f = 0; f < 10; ++f) {
     const int64_t t = 1'000'000 + f * 20'000;
     rec.events.push_back(event(ucon::channels::kRobotPose, pose(t, 0, 0, 0)));
@@ -265,9 +272,7 @@ TEST(DriveScoring, GivenAMoverSeenAndThenHiddenThenTheSensorSharesCountWhatATrac
   // after frame 4 could still be held; well seen only in frames 0-4.
   const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
   ucon::bench::Recording rec;
-  std::vector<P> wall;
-  for (int i = 0; i < 60; ++i)
-    for (int k = 0; k < 5; ++k) wall.push_back({-6.0f, -3.0f + 0.1f * i, 0.3f + 0.3f * k});
+  const std::vector<P> wall = wallBehind();
   const int64_t t0 = 1'000'000, dt = 20'000;
   for (int f = 0; f < 100; ++f) {
     const int64_t t = t0 + f * dt;
@@ -294,6 +299,45 @@ TEST(DriveScoring, GivenAMoverSeenAndThenHiddenThenTheSensorSharesCountWhatATrac
   const int64_t coast_frames = static_cast<int64_t>(std::floor(1e6 * shipped.tracks.max_coast / dt + 1e-9));
   ASSERT_LT(5 + merged - 1 + coast_frames, 100);  // the hidden stretch outlasts the coast time
   EXPECT_EQ(sh.held, 5 + merged - 1 + coast_frames);
+  EXPECT_EQ(sh.predictable, 100);  // it never moved: held in place, it is where it was
+}
+
+TEST(DriveScoring, GivenAHiddenMoverThatTurnsBackThenPredictableEndsWhereNeitherItsLastVelocityNorRestPutsIt) {
+  // A mover at x = 5 walks +y at 1 m/s, seen in frames 0-4, hidden after; from frame 10 on it
+  // walks back at 1.1 m/s. Its last view (the output of frame 4 + merged - 1 = 5) puts it at
+  // y = 0.1 moving +1 m/s. Walked on, that view is 1 m off by frame 33; at rest, the mover is
+  // within 1 m of it up to frame 58 (0.022 (f - 9) - 0.08 <= 1), not after. A second mover
+  // at y = -2 walks -y at 1 m/s throughout, seen in the same frames: walked on, its last view
+  // holds it to the end, though it leaves that place by 1 m by frame 56.
+  const auto shipped = config<ucon::perception::PerceptionParams>("perception.yaml");
+  const int merged = shipped.preprocess.accumulate_frames;
+  ASSERT_EQ(merged, 2);  // the frame counts below are worked out for the shipped value
+  ucon::bench::Recording rec;
+  const std::vector<P> wall = wallBehind();
+  const int64_t t0 = 1'000'000, dt = 20'000;
+  for (int f = 0; f < 100; ++f) {
+    const int64_t t = t0 + f * dt;
+    const double y = f <= 9 ? 0.02 * f : 0.18 - 0.022 * (f - 9);
+    const double vy = f < 9 ? 1.0 : -1.1;
+    auto pts = wall;
+    const double y4 = -2.0 - 0.02 * f;
+    if (f < 5)
+      for (int k = 0; k < 12; ++k) {
+        pts.push_back({4.78f, static_cast<float>(y - 0.15 + 0.025 * k), static_cast<float>(0.3 + 0.1 * k)});
+        pts.push_back({4.78f, static_cast<float>(y4 - 0.15 + 0.025 * k), static_cast<float>(0.3 + 0.1 * k)});
+      }
+    rec.events.push_back(event(ucon::channels::kRobotPose, pose(t, 0, 0, 0)));
+    rec.events.push_back(event(ucon::channels::kSimGroundTruth,
+                               groundTruth(t, {mover(3, 5.0, y, 0.0, vy), mover(4, 5.0, y4, 0.0, -1.0)})));
+    rec.events.push_back(event(ucon::channels::kLidarPoints, cloud(t, f, pts)));
+  }
+  const auto s = ucon::bench::scoreRecording(rec, {"ucon"}, {shipped}, ucon::bench::ScoreOptions{});
+  ASSERT_EQ(s.size(), 1u);
+  const auto& sh = s[0].sensor;
+  EXPECT_EQ(sh.objects, 200);
+  EXPECT_EQ(sh.visible, 2 * (5 + merged - 1));
+  EXPECT_EQ(sh.seen, 200);
+  EXPECT_EQ(sh.predictable, 59 + 100);
 }
 
 TEST(DriveMissCauses, GivenEachSituationOfAMissedMoverThenItsCauseIsTheFirstThatApplies) {
